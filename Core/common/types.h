@@ -1,0 +1,30 @@
+// Basic types shared by every part of femorph_core.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace femorph {
+
+using Vec3 = Eigen::Vector3d;
+/// Vertex, tet and region ids. 32 bits: meshes up to 500M tets (neighbour
+/// codes 4*t + f must fit).
+using index_t = std::int32_t;
+constexpr index_t kInvalidIndex = -1;
+using Tet = std::array<index_t, 4>;
+
+/// Result of a core function that can fail: ok, or a message for the user.
+struct Status {
+  bool ok = true;
+  std::string message;
+
+  static Status success() { return {}; }
+  static Status failure(std::string msg) { return {false, std::move(msg)}; }
+  explicit operator bool() const { return ok; }
+};
+
+}  // namespace femorph

@@ -1,0 +1,202 @@
+// Edge collapse, thesis 2.6.1.3 Fig. 2.36 (a), and the half-edge collapse of
+// Fig. 2.39 (the inverted-element removal of 2.6.2) as its special case.
+#include "geometry/predicates.h"
+#include "mesh/tet_mesh.h"
+#include "mesh/vertex_stencil.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+
+namespace femorph {
+namespace {
+
+using Pair = std::pair<index_t, index_t>;
+
+inline Pair ordered(index_t x, index_t y) { return x < y ? Pair(x, y) : Pair(y, x); }
+
+template <class T>
+inline bool contains(const std::vector<T>& v, const T& x) {
+  return std::find(v.begin(), v.end(), x) != v.end();
+}
+
+}  // namespace
+
+bool TetMesh::link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
+                             const std::vector<index_t>& ball_b, const std::vector<index_t>& ring) const {
+  // Lk(a) n Lk(b) = Lk(ab) (Dey et al.; thesis 2.6.1.3), with a vertex at
+  // infinity joined to every boundary face so that boundary and interior are
+  // treated alike. Lk(ab) is the ring of the edge: its opposite vertices R,
+  // the consecutive pairs, and infinity with the two ends when the ring is
+  // open. Checked with vertex marks over the two balls.
+  thread_local std::vector<index_t> ring_vertices, ends, inf_a, inf_b;
+  thread_local std::vector<Pair> ring_pairs, pairs_a, pairs_b, bpairs_a, bpairs_b;
+  ring_vertices.clear();
+  ends.clear();
+  ring_pairs.clear();
+  for (index_t t : ring) {
+    const TetRecord& R = rec_[t];
+    int lx[2], n = 0;
+    for (int i = 0; i < 4; ++i)
+      if (R.v[i] != a && R.v[i] != b) lx[n++] = i;
+    ring_pairs.push_back(ordered(R.v[lx[0]], R.v[lx[1]]));
+    for (int k = 0; k < 2; ++k) {
+      const index_t x = R.v[lx[k]];
+      if (!contains(ring_vertices, x)) ring_vertices.push_back(x);
+      // Face (a, b, x) is opposite the other one: on the boundary, x is an
+      // end of the open ring.
+      if (R.n[lx[1 - k]] < 0) ends.push_back(x);
+    }
+  }
+  const bool open_ring = !ends.empty();
+
+  // Marks: every vertex of Lk(a) gets `in_a`, then the ring vertices (a
+  // subset) get `in_ring`.
+  const std::uint32_t in_a = next_vertex_stamp();
+  const std::uint32_t in_ring = next_vertex_stamp();
+  std::uint32_t* mark = vertex_stamp_.data();
+  bool a_on_boundary = false, b_on_boundary = false;
+  for (index_t t : ball_a) {
+    const TetRecord& R = rec_[t];
+    for (int f = 0; f < 4; ++f) {
+      mark[R.v[f]] = in_a;
+      if (R.n[f] < 0 && R.v[f] != a) a_on_boundary = true;
+    }
+  }
+  for (index_t x : ring_vertices) mark[x] = in_ring;
+
+  // Vertices: every common neighbour of a and b is in R; infinity is common
+  // (both on the boundary) only if the edge is on the boundary.
+  for (index_t t : ball_b) {
+    const TetRecord& R = rec_[t];
+    for (int f = 0; f < 4; ++f) {
+      const index_t w = R.v[f];
+      if (R.n[f] < 0 && w != b) b_on_boundary = true;
+      if (w != a && w != b && mark[w] == in_a) return false;
+    }
+  }
+  if (a_on_boundary && b_on_boundary && !open_ring) return false;
+
+  // Edges and triangles with all ends in R: faces (v, x, y) of the balls with
+  // x, y in R, and boundary faces likewise (edges to infinity).
+  auto collect = [&](index_t v, const std::vector<index_t>& ball, std::vector<Pair>& pairs,
+                     std::vector<Pair>& boundary_pairs, std::vector<index_t>& inf_edges, int* ring_tets) {
+    pairs.clear();
+    boundary_pairs.clear();
+    inf_edges.clear();
+    *ring_tets = 0;
+    for (index_t t : ball) {
+      const TetRecord& R = rec_[t];
+      int in_r = 0;
+      for (index_t w : R.v) in_r += (w != v && mark[w] == in_ring);
+      if (in_r == 3) ++*ring_tets;  // tet (v, x, y, z) with x, y, z in R
+      for (int f = 0; f < 4; ++f) {
+        if (R.v[f] == v) continue;
+        index_t xy[2];
+        int n = 0;
+        for (int k = 0; k < 3; ++k) {
+          const index_t w = R.v[kTetFace[f][k]];
+          if (w != v) xy[n++] = w;
+        }
+        const bool x_in = mark[xy[0]] == in_ring, y_in = mark[xy[1]] == in_ring;
+        if (x_in && y_in) {
+          const Pair p = ordered(xy[0], xy[1]);
+          if (!contains(pairs, p)) pairs.push_back(p);
+          if (R.n[f] < 0) boundary_pairs.push_back(p);
+        }
+        if (R.n[f] < 0) {
+          if (x_in) inf_edges.push_back(xy[0]);
+          if (y_in) inf_edges.push_back(xy[1]);
+        }
+      }
+    }
+  };
+  int ring_tets_a = 0, ring_tets_b = 0;
+  collect(a, ball_a, pairs_a, bpairs_a, inf_a, &ring_tets_a);
+  collect(b, ball_b, pairs_b, bpairs_b, inf_b, &ring_tets_b);
+  for (const Pair& p : pairs_a)
+    if (contains(pairs_b, p) && !contains(ring_pairs, p)) return false;
+  for (index_t x : inf_a)
+    if (contains(inf_b, x) && !contains(ends, x)) return false;
+  // Triangles: Lk(ab) has none, so no triangle may be common: neither a tet
+  // (a, x, y, z) and (b, x, y, z), nor boundary faces (a, x, y) and (b, x, y).
+  if (ring_vertices.size() == 3 && ring_tets_a > 0 && ring_tets_b > 0) return false;
+  for (const Pair& p : bpairs_a)
+    if (contains(bpairs_b, p)) return false;
+  return true;
+}
+
+OpStatus TetMesh::collapse_edge(index_t keep, index_t remove, const Vec3* position) {
+  if (!vertex_alive(keep) || !vertex_alive(remove) || keep == remove) return OpStatus::InvalidArgument;
+  const Vec3 p = position ? *position : points_[keep];
+  if (!p.allFinite()) return OpStatus::InvalidArgument;
+  std::vector<index_t>& ball_keep = scratch_ball_;
+  std::vector<index_t>& ball_remove = scratch_ball2_;
+  // remove's ball first: it decides most refusals (not an edge, inverted);
+  // keep's ball is walked only when needed.
+  vertex_ball(remove, ball_remove);
+  auto positive_after = [&](const Tet& T) {
+    const Vec3* q[4];
+    for (int i = 0; i < 4; ++i) q[i] = (T[i] == keep || T[i] == remove) ? &p : &points_[T[i]];
+    return orient3d_sign(*q[0], *q[1], *q[2], *q[3]) > 0;
+  };
+  // Tets of ball(remove) off the edge stay, with remove renamed keep; those
+  // on the edge vanish.
+  thread_local std::vector<index_t> ring, unchanged;
+  ring.clear();
+  scratch_new_.clear();
+  scratch_origin_.clear();
+  for (index_t t : ball_remove) {
+    Tet T = rec_[t].v;
+    bool on_edge = false;
+    for (int i = 0; i < 4; ++i) {
+      on_edge = on_edge || T[i] == keep;
+      if (T[i] == remove) T[i] = keep;
+    }
+    if (on_edge) {
+      ring.push_back(t);
+      continue;
+    }
+    scratch_new_.push_back(T);
+    scratch_origin_.push_back(tet_origin_[t]);
+  }
+  if (ring.empty()) return OpStatus::InvalidArgument;  // not an edge
+  for (index_t t : ball_remove)
+    if (local_index(t, keep) < 0 && !positive_after(rec_[t].v)) return OpStatus::Inverted;
+  // Tets of ball(keep) off the edge stay, with keep moved to p.
+  vertex_ball(keep, ball_keep);
+  unchanged.clear();
+  for (index_t t : ball_keep)
+    if (local_index(t, remove) < 0) unchanged.push_back(t);
+  const bool moved = p != points_[keep];
+  if (moved)
+    for (index_t t : unchanged)
+      if (!positive_after(rec_[t].v)) return OpStatus::Inverted;
+  // Topology last: it costs more than the orientation tests.
+  if (!link_condition(keep, remove, ball_keep, ball_remove, ring)) return OpStatus::LinkCondition;
+
+  // Commit. Point data of the merged vertex: linear along the edge at the
+  // projection of p (unchanged when p is keep's position).
+  if (moved) {
+    const Vec3 e = points_[remove] - points_[keep];
+    const double len2 = e.squaredNorm();
+    double s = len2 > 0 ? (p - points_[keep]).dot(e) / len2 : 0.0;
+    s = std::min(1.0, std::max(0.0, s));
+    const VertexStencil* stencils[2] = {&vertex_origin_[keep], &vertex_origin_[remove]};
+    const double weights[2] = {1.0 - s, s};
+    vertex_origin_[keep] = combine_stencils(stencils, weights, 2);
+  }
+  // The more constrained class survives (rules (D)-(F) keep that vertex).
+  vclass_[keep] = std::max(vclass_[keep], vclass_[remove]);
+  // The cavity is ball(remove); tets on the edge vanish and their two outer
+  // faces are zipped by replace_tets.
+  replace_tets(ball_remove, scratch_new_, scratch_origin_, remove, keep);
+  points_[keep] = p;
+  delete_vertex(remove);
+  if (!tet_alive(vertex_tet_[keep]) || local_index(vertex_tet_[keep], keep) < 0) vertex_tet_[keep] = unchanged.front();
+  // Tets of keep's ball that only moved are touched too.
+  touched_.insert(touched_.end(), unchanged.begin(), unchanged.end());
+  return OpStatus::Ok;
+}
+
+}  // namespace femorph

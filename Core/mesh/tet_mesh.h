@@ -1,0 +1,309 @@
+// TetMesh: the mutable tetrahedral mesh every FEMorph algorithm edits.
+//
+// Storage (flat arrays, about 60 bytes per tet in all):
+//   points     #V positions
+//   tets       #T x 4 vertex ids, positively oriented:
+//              (p1 - p0) . ((p2 - p0) x (p3 - p0)) > 0   (VTK_TETRA's order)
+//   adjacency  #T x 4 codes; face f of tet t is the face opposite local
+//              vertex f. Code >= 0: the neighbour 4 * t' + f' across it.
+//              Code < 0: a boundary face, whose region id is -2 - code
+//              (-1 = no region).
+//   vertex_tet one live incident tet per vertex; the ball of a vertex is found
+//              by walking face adjacency from it (vertex neighbourhoods are
+//              manifold, build() checks it).
+// Dead tets and vertices are tombstoned (first id = -1) and reused from free
+// lists; compact() renumbers for output.
+//
+// Provenance, so attribute data can follow the edits (DESIGN.md): every tet
+// carries the input cell it descends from; every vertex carries a stencil of
+// up to four input vertices and weights that interpolate point data onto it.
+//
+// Local operations (thesis 2.6.1.3, 2.6.5.3 Fig. 2.45, 2.6.5.4 Fig. 2.46) live
+// in their own files (split_edge.cpp, collapse_edge.cpp, flip_23.cpp ...).
+// Each validates before it commits: no tet with non-positive volume (exact
+// predicate), no duplicate edge or face, the link condition for collapses. A
+// refused operation leaves the mesh untouched; an accepted one lists the live
+// tets it created or changed in touched_tets().
+#pragma once
+
+#include "common/types.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace femorph {
+
+namespace internal {
+struct FaceSlot;
+}
+
+/// Vertex classes of thesis Fig. 2.37: inner, surface (on one boundary
+/// region), curve (on a boundary curve between regions: "boundary edge
+/// vertex"), corner (where curves meet: "feature vertex").
+enum class VertexClass : std::uint8_t { Inner = 0, Surface = 1, Curve = 2, Corner = 3 };
+
+/// Local vertices of face f (opposite local vertex f), ordered so that the
+/// face normal (right-hand rule) points out of a positive tet.
+constexpr int kTetFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+/// Why a local operation was refused.
+enum class OpStatus : std::uint8_t {
+  Ok = 0,
+  InvalidArgument,   // dead vertex/tet, not an edge/face, same vertex twice
+  BoundaryEntity,    // the operation needs an interior edge or face
+  WrongValence,      // flip 3-2 needs 3 tets around the edge, 4-4 needs 4
+  Inverted,          // a resulting tet would have non-positive volume
+  DuplicateEntity,   // the new edge or face already exists elsewhere
+  LinkCondition,     // collapse would change the topology
+  ForbiddenByRule,   // edge classes of thesis Fig. 2.37 (A)-(C)
+};
+const char* to_string(OpStatus status);
+
+/// Input vertices and weights that interpolate point data onto a vertex.
+/// Unused slots have id -1 and weight 0; weights sum to 1.
+struct VertexStencil {
+  std::array<index_t, 4> ids{{kInvalidIndex, kInvalidIndex, kInvalidIndex, kInvalidIndex}};
+  std::array<double, 4> weights{{0, 0, 0, 0}};
+};
+
+/// Outcome of plan_collapse_by_rules().
+struct CollapsePlan {
+  OpStatus status = OpStatus::Ok;
+  index_t keep = kInvalidIndex;
+  index_t remove = kInvalidIndex;
+  Vec3 position = Vec3::Zero();
+};
+
+struct BuildOptions {
+  /// Accept tets with negative volume that are oriented consistently with
+  /// their neighbours (elements inverted by a deformation, for Improve to
+  /// repair). Otherwise they are an input error.
+  bool allow_inverted = false;
+  /// Accept tets with zero volume. Otherwise they are an input error.
+  bool allow_degenerate = false;
+  /// Region id per tet face (#T x 4, -1 = none), e.g. from FaceRegion.
+  /// Empty: all boundary faces get region -1. Ignored on interior faces.
+  std::vector<Tet> face_regions;
+};
+
+/// What build() found in the input, for messages and for the filters.
+struct BuildReport {
+  std::size_t flipped_tets = 0;   // all-negative input flipped to positive
+  std::size_t inverted_tets = 0;  // negative volume, consistent neighbours
+  std::size_t degenerate_tets = 0;
+  std::size_t unused_points = 0;  // points no tet refers to (dead, slots reusable)
+  std::size_t boundary_faces = 0;
+};
+
+/// A compacted copy for output: live vertices and tets renumbered densely.
+struct CompactMesh {
+  std::vector<Vec3> points;
+  std::vector<Tet> tets;
+  std::vector<Tet> face_regions;             // per tet face, -1 = interior
+  std::vector<VertexClass> vertex_classes;
+  std::vector<VertexStencil> vertex_origin;  // per output vertex
+  std::vector<index_t> tet_origin;           // input tet each output tet descends from
+  std::vector<index_t> vertex_map;           // old vertex slot -> new id (-1 dead)
+};
+
+class TetMesh {
+ public:
+  TetMesh() = default;
+
+  /// Builds the mesh from points and tets (0-based). Orientation: an input
+  /// whose tets are all negative is flipped consistently; mixed orientation
+  /// (neighbouring tets that disagree) is an error naming the count of
+  /// offending tets. Also an error: no tets, an index out of range, a vertex
+  /// repeated in a tet, a non-finite coordinate, a face shared by more than two
+  /// tets, a non-manifold boundary edge or vertex, inverted or degenerate tets
+  /// unless allowed by `options`. Points no tet uses are dead from the start
+  /// (their slots are reused; compact() drops them).
+  /// On failure `*this` is left empty.
+  Status build(std::vector<Vec3> points, std::vector<Tet> tets,
+               const BuildOptions& options = {}, BuildReport* report = nullptr);
+
+  // ---- sizes and liveness -------------------------------------------------
+  index_t vertex_slots() const { return static_cast<index_t>(points_.size()); }
+  index_t tet_slots() const { return static_cast<index_t>(rec_.size()); }
+  std::size_t live_vertices() const { return points_.size() - free_vertices_.size(); }
+  std::size_t live_tets() const { return rec_.size() - free_tets_.size(); }
+  bool tet_alive(index_t t) const { return t >= 0 && t < tet_slots() && rec_[t].v[0] >= 0; }
+  bool vertex_alive(index_t v) const { return v >= 0 && v < vertex_slots() && vertex_tet_[v] >= 0; }
+
+  // ---- element access -----------------------------------------------------
+  const Tet& tet(index_t t) const { return rec_[t].v; }
+  const Vec3& point(index_t v) const { return points_[v]; }
+  const std::vector<Vec3>& points() const { return points_; }
+  /// Neighbour code across face f of tet t (see the header comment).
+  index_t adjacency(index_t t, int f) const { return rec_[t].n[f]; }
+  bool is_boundary_face(index_t t, int f) const { return rec_[t].n[f] < 0; }
+  /// Region of boundary face f of tet t (-1 = none); -1 for interior faces.
+  index_t face_region(index_t t, int f) const { return rec_[t].n[f] < 0 ? -2 - rec_[t].n[f] : kInvalidIndex; }
+  void set_face_region(index_t t, int f, index_t region);
+  /// Local index (0..3) of vertex v in tet t, or -1.
+  int local_index(index_t t, index_t v) const;
+  index_t tet_origin(index_t t) const { return tet_origin_[t]; }
+  const VertexStencil& vertex_origin(index_t v) const { return vertex_origin_[v]; }
+
+  // ---- vertex classes and constraints (thesis Fig. 2.37) ------------------
+  VertexClass vertex_class(index_t v) const { return vclass_[v]; }
+  void set_vertex_class(index_t v, VertexClass c) { vclass_[v] = c; }
+  /// Classifies every vertex from the regions of its boundary faces: no
+  /// boundary face -> Inner; one region and no curve edge -> Surface; exactly
+  /// two curve edges -> Curve; otherwise Corner. A curve edge is a boundary
+  /// edge whose two boundary faces have different regions. Called by build().
+  void classify_vertices();
+  /// True when (a, b) is a boundary edge whose two boundary faces lie in
+  /// different regions (it lies on a boundary curve).
+  bool is_curve_edge(index_t a, index_t b, index_t hint = kInvalidIndex) const;
+
+  // ---- topology queries ---------------------------------------------------
+  /// Live tets incident to v, in no particular order (ball of v).
+  void vertex_ball(index_t v, std::vector<index_t>& tets) const;
+  /// Vertices adjacent to v by an edge.
+  void vertex_neighbors(index_t v, std::vector<index_t>& vertices) const;
+  /// A live tet containing edge (a, b), or -1 if the edge does not exist.
+  /// `hint`: a tet believed to contain the edge (checked; saves the search
+  /// through the ball of a). Every edge query and operation takes one.
+  index_t find_edge_tet(index_t a, index_t b, index_t hint = kInvalidIndex) const;
+  bool has_edge(index_t a, index_t b) const { return find_edge_tet(a, b) >= 0; }
+  /// Tets around edge (a, b) in rotation order. Returns false if the edge does
+  /// not exist. *on_boundary tells whether the ring is open (edge on the
+  /// boundary); then the first and last tet have the boundary faces.
+  bool edge_ring(index_t a, index_t b, std::vector<index_t>& ring, bool* on_boundary,
+                 index_t hint = kInvalidIndex) const;
+  /// A live tet having face {a, b, c} and the local face index, or -1.
+  index_t find_face(index_t a, index_t b, index_t c, int* local_face = nullptr) const;
+  /// True if v lies on a boundary face.
+  bool on_boundary(index_t v) const { return vclass_[v] != VertexClass::Inner; }
+
+  // ---- geometry -----------------------------------------------------------
+  /// Exact sign of the volume of tet t (+1, 0, -1).
+  int orientation(index_t t) const;
+  /// Moves v to p if every tet of its ball stays positive (exact test);
+  /// otherwise refuses and leaves v in place.
+  OpStatus move_vertex(index_t v, const Vec3& p);
+  /// Moves v without any check (for callers that validated already).
+  void set_point(index_t v, const Vec3& p) { points_[v] = p; }
+
+  // ---- local operations (each in its own .cpp) -----------------------------
+  /// Edge split (thesis Fig. 2.35 (a)): inserts a vertex on edge (a, b) at
+  /// `position` (nullptr: the midpoint), splitting every tet around the edge
+  /// in two; boundary faces keep their region. *new_vertex receives its id.
+  /// Refused if a new tet would not be positive (possible off the midpoint).
+  OpStatus split_edge(index_t a, index_t b, const Vec3* position, index_t* new_vertex,
+                      index_t hint = kInvalidIndex);
+  /// Face split (Fig. 2.35 (b)): inserts a vertex on face f of tet t at
+  /// `position` (nullptr: the centroid); each tet on the face becomes three.
+  OpStatus split_face(index_t t, int f, const Vec3* position, index_t* new_vertex);
+  /// Edge collapse (Fig. 2.36 (a)): merges `remove` into `keep` and moves
+  /// `keep` to `position` (nullptr: keep's position, i.e. the half-edge
+  /// collapse of Fig. 2.39). The tets around the edge vanish. Checks the link
+  /// condition and that every remaining tet of both balls stays positive.
+  /// Does not apply the rules of Fig. 2.37: see collapse_edge_by_rules().
+  OpStatus collapse_edge(index_t keep, index_t remove, const Vec3* position);
+  /// Half-edge collapse (Fig. 2.39): `remove` moves onto `keep`.
+  OpStatus half_edge_collapse(index_t remove, index_t keep) { return collapse_edge(keep, remove, nullptr); }
+  /// The collapse of edge (a, b) that thesis Fig. 2.37 allows: refuses the
+  /// forbidden edges (A)-(C) with ForbiddenByRule; otherwise names the vertex
+  /// to keep and the position by rules (D)-(G). Improve projects `position`
+  /// onto the fitted surface or curve before collapsing.
+  CollapsePlan plan_collapse_by_rules(index_t a, index_t b, index_t hint = kInvalidIndex) const;
+  /// plan_collapse_by_rules() then collapse_edge(). *kept receives the
+  /// surviving vertex (may be null).
+  OpStatus collapse_edge_by_rules(index_t a, index_t b, index_t* kept, index_t hint = kInvalidIndex);
+  /// Flip 2-3 (Fig. 2.46): the interior face f of tet t and its two tets
+  /// become three tets around the edge joining the two opposite vertices.
+  OpStatus flip_23(index_t t, int f);
+  /// Flip 3-2: the interior edge (a, b) with exactly three tets becomes the
+  /// face of the three other vertices, with two tets.
+  OpStatus flip_32(index_t a, index_t b, index_t hint = kInvalidIndex);
+  /// Flip 4-4: the interior edge (a, b) with exactly four tets (an
+  /// octahedron c0 c1 c2 c3 around it) is replaced by the diagonal (c0, c2)
+  /// when `diagonal` is 0, (c1, c3) when 1, where c0 is the opposite vertex
+  /// order of edge_ring().
+  OpStatus flip_44(index_t a, index_t b, int diagonal, index_t hint = kInvalidIndex);
+  /// Surface edge flip (Fig. 2.45): the boundary edge (a, b), whose two
+  /// boundary faces (a, b, c) and (b, a, d) lie in one region, becomes
+  /// (c, d) by an edge split at the midpoint followed by the half-edge
+  /// collapse of the new vertex onto c. Refused when either step would be.
+  OpStatus flip_surface_edge(index_t a, index_t b, index_t hint = kInvalidIndex);
+
+  /// Live tets the last accepted operation created or changed.
+  const std::vector<index_t>& touched_tets() const { return touched_; }
+
+  // ---- output and checks ---------------------------------------------------
+  /// Dense copy of the live mesh with provenance and face regions.
+  CompactMesh compact() const;
+  /// Bytes held by the mesh's arrays (capacity, scratch space included).
+  std::size_t memory_bytes() const;
+  /// Checks the internal invariants (adjacency symmetric and matching the
+  /// faces, vertex_tet incident and alive, free lists, orientation positive
+  /// unless inverted tets were allowed). For tests; O(#T).
+  Status check_consistency() const;
+
+ private:
+  friend struct TetMeshAccess;  // tests and benchmarks
+
+  index_t new_tet(const Tet& vertices, index_t origin);
+  void delete_tet(index_t t);
+  index_t new_vertex(const Vec3& p, const VertexStencil& origin, VertexClass c);
+  void delete_vertex(index_t v);
+  /// Replaces the live tets `old_tets` (a cavity) by `new_tets`, whose
+  /// boundary is the cavity's boundary once vertex `rename_from` is renamed
+  /// `rename_to` (-1: no renaming). Rebuilds face adjacency inside the new
+  /// tets and with the outside, zips the two outer faces of a vanished tet
+  /// (collapse), keeps boundary regions and vertex_tet. Fills touched_.
+  /// The caller has validated the result.
+  void replace_tets(const std::vector<index_t>& old_tets, const std::vector<Tet>& new_tets,
+                    const std::vector<index_t>& new_origins, index_t rename_from, index_t rename_to);
+  /// Links two faces of a cavity with the same vertices (see replace_tets).
+  void link_faces(const internal::FaceSlot& p, const internal::FaceSlot& q);
+  /// Edge ring with the opposite vertices: ring[i] contains c[i] and c[i+1]
+  /// (c has ring.size() + 1 entries when open, ring.size() when closed).
+  bool edge_ring_with_vertices(index_t a, index_t b, std::vector<index_t>& ring,
+                               std::vector<index_t>& opposite, bool* on_boundary,
+                               index_t hint = kInvalidIndex) const;
+  /// Whether an open ring (from edge_ring_with_vertices) lies on a curve:
+  /// its two boundary faces have different regions.
+  bool open_ring_on_curve(const std::vector<index_t>& ring, const std::vector<index_t>& opposite) const;
+  /// Link condition of thesis 2.6.1.3 / Dey et al. for collapsing (a, b):
+  /// Lk(a) n Lk(b) = Lk(ab), with a vertex at infinity coning the boundary.
+  /// ball_a, ball_b: the balls of a and b; ring: the tets on the edge.
+  bool link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
+                      const std::vector<index_t>& ball_b, const std::vector<index_t>& ring) const;
+  VertexClass classify_vertex(index_t v) const;
+  std::uint32_t next_vertex_stamp() const;
+  /// A fresh mark value for tet_mark_ (16 bits: small and cache friendly;
+  /// cleared once every 65,535 uses).
+  std::uint16_t next_tet_mark() const;
+
+  /// A tet's vertices and neighbour codes side by side: one cache line
+  /// holds two tets, and local operations read both.
+  struct alignas(32) TetRecord {
+    Tet v;
+    Tet n;
+  };
+
+  std::vector<Vec3> points_;
+  std::vector<TetRecord> rec_;
+  std::vector<index_t> vertex_tet_;
+  std::vector<VertexClass> vclass_;
+  std::vector<index_t> tet_origin_;
+  std::vector<VertexStencil> vertex_origin_;
+  std::vector<index_t> free_tets_;
+  std::vector<index_t> free_vertices_;
+  bool allow_inverted_ = false;
+
+  // Scratch space reused by queries and operations (no allocation per op).
+  mutable std::vector<std::uint16_t> tet_mark_;
+  mutable std::uint16_t tet_mark_value_ = 0;
+  mutable std::vector<std::uint32_t> vertex_stamp_;
+  mutable std::uint32_t vertex_stamp_value_ = 0;
+  mutable std::vector<index_t> scratch_ring_, scratch_verts_, scratch_ball_, scratch_ball2_;
+  std::vector<Tet> scratch_new_;
+  std::vector<index_t> scratch_origin_;
+  std::vector<index_t> touched_;
+};
+
+}  // namespace femorph

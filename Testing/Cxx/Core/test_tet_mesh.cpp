@@ -1,0 +1,471 @@
+// TetMesh construction and local operations on hand-built meshes with the
+// exact expected connectivity, including refusals.
+#include "mesh/tet_mesh.h"
+#include "quality/check_validity.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+namespace femorph {
+namespace {
+
+using Sets = std::vector<std::array<index_t, 4>>;
+
+/// Live tets as sorted vertex sets, sorted: connectivity independent of slots
+/// and of the order inside each tet.
+Sets tet_sets(const TetMesh& m) {
+  Sets out;
+  for (index_t t = 0; t < m.tet_slots(); ++t) {
+    if (!m.tet_alive(t)) continue;
+    Tet s = m.tet(t);
+    std::sort(s.begin(), s.end());
+    out.push_back(s);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+Sets sorted_sets(Sets s) {
+  for (auto& t : s) std::sort(t.begin(), t.end());
+  std::sort(s.begin(), s.end());
+  return s;
+}
+
+double volume(const TetMesh& m) {
+  const CompactMesh c = m.compact();
+  return testing::total_volume(c.points, c.tets);
+}
+
+std::size_t boundary_faces(const TetMesh& m) {
+  std::size_t n = 0;
+  for (index_t t = 0; t < m.tet_slots(); ++t)
+    if (m.tet_alive(t))
+      for (int f = 0; f < 4; ++f) n += m.is_boundary_face(t, f);
+  return n;
+}
+
+/// Everything a refused operation must leave unchanged.
+struct Snapshot {
+  std::vector<Tet> tets, adjacency;
+  std::vector<Vec3> points;
+  explicit Snapshot(const TetMesh& m) {
+    for (index_t t = 0; t < m.tet_slots(); ++t) {
+      tets.push_back(m.tet(t));
+      adjacency.push_back({m.adjacency(t, 0), m.adjacency(t, 1), m.adjacency(t, 2), m.adjacency(t, 3)});
+    }
+    points = m.points();
+  }
+  bool operator==(const Snapshot& o) const { return tets == o.tets && adjacency == o.adjacency && points == o.points; }
+};
+
+void expect_valid(const TetMesh& m) {
+  const Status s = m.check_consistency();
+  EXPECT_TRUE(s.ok) << s.message;
+  const CompactMesh c = m.compact();
+  const ValidityReport r = check_validity(c.points, c.tets);
+  EXPECT_TRUE(r.ok()) << r.summary();
+}
+
+// Two tets on the triangle (0, 1, 2) in the plane z = 0, apexes 3 above and
+// 4 below.
+TetMesh two_tets(double apex_x = 0.3) {
+  std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {apex_x, 0.3, 1}, {apex_x, 0.3, -1}};
+  std::vector<Tet> t = {{0, 1, 2, 3}, {0, 2, 1, 4}};
+  TetMesh m;
+  const Status s = m.build(p, t);
+  EXPECT_TRUE(s.ok) << s.message;
+  return m;
+}
+
+// An octahedron: ring c0..c3 in the plane z = 0, a above and b below; four
+// tets around the edge (a, b).
+TetMesh octahedron(bool convex = true) {
+  std::vector<Vec3> p = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+  if (!convex) {
+    // Star-shaped around the edge but reflex at c1: the diagonal (c0, c2) runs
+    // outside the ring, (c1, c3) inside.
+    p[2] = Vec3(1, 0.6, 0);
+    p[3] = Vec3(0, 0.3, 0);
+    p[4] = Vec3(-1, 0.6, 0);
+  }
+  // a = 0, b = 1, c0..c3 = 2..5
+  std::vector<Tet> t;
+  for (int i = 0; i < 4; ++i) {
+    Tet T = {0, 1, static_cast<index_t>(2 + i), static_cast<index_t>(2 + (i + 1) % 4)};
+    const Vec3& p0 = p[T[0]];
+    if ((p[T[1]] - p0).dot((p[T[2]] - p0).cross(p[T[3]] - p0)) < 0) std::swap(T[2], T[3]);
+    t.push_back(T);
+  }
+  TetMesh m;
+  const Status s = m.build(p, t);
+  EXPECT_TRUE(s.ok) << s.message;
+  return m;
+}
+
+// ---------------------------------------------------------------------------
+TEST(TetMeshBuild, AdjacencyBoundaryAndClasses) {
+  TetMesh m = two_tets();
+  EXPECT_EQ(m.live_tets(), 2u);
+  EXPECT_EQ(boundary_faces(m), 6u);
+  // Face 3 of tet 0 is (0, 1, 2), shared with tet 1's face opposite vertex 4.
+  EXPECT_EQ(m.adjacency(0, 3), 4 * 1 + 3);
+  EXPECT_EQ(m.adjacency(1, 3), 4 * 0 + 3);
+  for (index_t v = 0; v < 5; ++v) EXPECT_EQ(m.vertex_class(v), VertexClass::Surface);
+  expect_valid(m);
+}
+
+TEST(TetMeshBuild, FlipsAllNegativeInput) {
+  std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.3, 0.3, 1}, {0.3, 0.3, -1}};
+  std::vector<Tet> t = {{0, 2, 1, 3}, {0, 1, 2, 4}};  // both negative
+  TetMesh m;
+  BuildReport rep;
+  ASSERT_TRUE(m.build(p, t, {}, &rep).ok);
+  EXPECT_EQ(rep.flipped_tets, 2u);
+  EXPECT_GT(m.orientation(0), 0);
+  EXPECT_GT(m.orientation(1), 0);
+}
+
+TEST(TetMeshBuild, MixedOrientationIsAnErrorWithTheCount) {
+  std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.3, 0.3, 1}, {0.3, 0.3, -1}};
+  std::vector<Tet> t = {{0, 1, 2, 3}, {0, 1, 2, 4}};  // second listed in the other convention
+  TetMesh m;
+  const Status s = m.build(p, t);
+  EXPECT_FALSE(s.ok);
+  EXPECT_NE(s.message.find("mixed orientation"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("1 tet is"), std::string::npos) << s.message;
+  EXPECT_EQ(m.live_tets(), 0u);
+}
+
+TEST(TetMeshBuild, InvertedTetNeedsPermission) {
+  // Consistent connectivity, but apex 4 moved above the shared face: tet 1 is
+  // geometrically inverted (as after a deformation).
+  std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.3, 0.3, 1}, {0.3, 0.3, 0.5}};
+  std::vector<Tet> t = {{0, 1, 2, 3}, {0, 2, 1, 4}};
+  TetMesh m;
+  Status s = m.build(p, t);
+  EXPECT_FALSE(s.ok);
+  EXPECT_NE(s.message.find("1 tet is inverted"), std::string::npos) << s.message;
+  BuildOptions allow;
+  allow.allow_inverted = true;
+  BuildReport rep;
+  s = m.build(p, t, allow, &rep);
+  EXPECT_TRUE(s.ok) << s.message;
+  EXPECT_EQ(rep.inverted_tets, 1u);
+}
+
+TEST(TetMeshBuild, BadInputMessages) {
+  TetMesh m;
+  EXPECT_NE(m.build({}, {}).message.find("no tetrahedra"), std::string::npos);
+  std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  EXPECT_NE(m.build(p, {{0, 1, 2, 7}}).message.find("out of range"), std::string::npos);
+  EXPECT_NE(m.build(p, {{0, 1, 1, 3}}).message.find("twice"), std::string::npos);
+  auto q = p;
+  q[2].x() = std::nan("");
+  EXPECT_NE(m.build(q, {{0, 1, 2, 3}}).message.find("NaN"), std::string::npos);
+  auto flat = p;
+  flat[3] = Vec3(0.2, 0.2, 0);
+  EXPECT_NE(m.build(flat, {{0, 1, 2, 3}}).message.find("zero volume"), std::string::npos);
+  // Two tets touching at one vertex only.
+  std::vector<Vec3> bow = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}, {0, -1, 0}, {0, 0, -1}};
+  const Status s = m.build(bow, {{0, 1, 2, 3}, {0, 5, 4, 6}});
+  EXPECT_FALSE(s.ok);
+  EXPECT_NE(s.message.find("not manifold"), std::string::npos) << s.message;
+  // Three tets on one face.
+  std::vector<Vec3> fan = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.3, 0.3, 1}, {0.3, 0.3, -1}, {0.3, 0.3, 2}};
+  const Status s3 = m.build(fan, {{0, 1, 2, 3}, {0, 2, 1, 4}, {0, 1, 2, 5}});
+  EXPECT_FALSE(s3.ok);
+  EXPECT_NE(s3.message.find("more than two tets"), std::string::npos) << s3.message;
+}
+
+TEST(TetMeshBuild, UnusedPointsAreDroppedAndReported) {
+  std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {9, 9, 9}, {0, 1, 0}, {0, 0, 1}};
+  TetMesh m;
+  BuildReport rep;
+  ASSERT_TRUE(m.build(p, {{0, 1, 3, 4}}, {}, &rep).ok);
+  EXPECT_EQ(rep.unused_points, 1u);
+  EXPECT_FALSE(m.vertex_alive(2));
+  const CompactMesh c = m.compact();
+  EXPECT_EQ(c.points.size(), 4u);
+  EXPECT_EQ(c.vertex_map[2], kInvalidIndex);
+  EXPECT_EQ(c.vertex_origin[2].ids[0], 3);  // output vertex 2 is input point 3
+}
+
+// ---------------------------------------------------------------------------
+TEST(Flip23, ExactConnectivityAndBack) {
+  TetMesh m = two_tets();
+  const double v0 = volume(m);
+  ASSERT_EQ(m.flip_23(0, 3), OpStatus::Ok);
+  EXPECT_EQ(tet_sets(m), sorted_sets({{3, 4, 0, 1}, {3, 4, 1, 2}, {3, 4, 2, 0}}));
+  EXPECT_EQ(m.touched_tets().size(), 3u);
+  EXPECT_NEAR(volume(m), v0, 1e-15);
+  EXPECT_EQ(boundary_faces(m), 6u);
+  expect_valid(m);
+  ASSERT_EQ(m.flip_32(3, 4), OpStatus::Ok);
+  EXPECT_EQ(tet_sets(m), sorted_sets({{0, 1, 2, 3}, {0, 1, 2, 4}}));
+  EXPECT_NEAR(volume(m), v0, 1e-15);
+  expect_valid(m);
+}
+
+TEST(Flip23, RefusesWhenTheNewEdgeMissesTheFace) {
+  TetMesh m = two_tets(1.5);  // apexes beyond edge (1, 2): segment misses the face
+  const Snapshot before(m);
+  EXPECT_EQ(m.flip_23(0, 3), OpStatus::Inverted);
+  EXPECT_TRUE(Snapshot(m) == before);
+  EXPECT_EQ(m.flip_23(0, 0), OpStatus::BoundaryEntity);
+  EXPECT_TRUE(Snapshot(m) == before);
+}
+
+TEST(Flip32, RefusesWrongValenceAndBoundary) {
+  TetMesh m = octahedron();
+  const Snapshot before(m);
+  EXPECT_EQ(m.flip_32(0, 1), OpStatus::WrongValence);
+  EXPECT_EQ(m.flip_32(0, 2), OpStatus::BoundaryEntity);
+  EXPECT_EQ(m.flip_32(2, 4), OpStatus::InvalidArgument);  // not an edge
+  EXPECT_TRUE(Snapshot(m) == before);
+}
+
+TEST(Flip44, BothDiagonals) {
+  for (int diagonal = 0; diagonal < 2; ++diagonal) {
+    TetMesh m = octahedron();
+    const double v0 = volume(m);
+    ASSERT_EQ(m.flip_44(0, 1, diagonal), OpStatus::Ok);
+    // The ring order starts anywhere; check the new edge is one diagonal and
+    // the four tets are the octahedron around it.
+    const bool d24 = m.has_edge(2, 4), d35 = m.has_edge(3, 5);
+    EXPECT_NE(d24, d35);
+    EXPECT_FALSE(m.has_edge(0, 1));
+    if (d24) {
+      EXPECT_EQ(tet_sets(m), sorted_sets({{2, 4, 3, 0}, {2, 4, 3, 1}, {2, 4, 5, 0}, {2, 4, 5, 1}}));
+    } else {
+      EXPECT_EQ(tet_sets(m), sorted_sets({{3, 5, 2, 0}, {3, 5, 2, 1}, {3, 5, 4, 0}, {3, 5, 4, 1}}));
+    }
+    EXPECT_NEAR(volume(m), v0, 1e-15);
+    EXPECT_EQ(boundary_faces(m), 8u);
+    expect_valid(m);
+  }
+}
+
+TEST(Flip44, RefusesTheDiagonalOutsideANonConvexRing) {
+  // The ring quad is not convex at c1, so the diagonal (c0, c2) = (2, 4)
+  // leaves the octahedron; (c1, c3) = (3, 5) is fine.
+  int refused = 0, accepted = 0;
+  for (int diagonal = 0; diagonal < 2; ++diagonal) {
+    TetMesh m = octahedron(false);
+    const Snapshot before(m);
+    const OpStatus s = m.flip_44(0, 1, diagonal);
+    if (s == OpStatus::Ok) {
+      ++accepted;
+      EXPECT_TRUE(m.has_edge(3, 5));
+      expect_valid(m);
+    } else {
+      ++refused;
+      EXPECT_EQ(s, OpStatus::Inverted);
+      EXPECT_TRUE(Snapshot(m) == before);
+    }
+  }
+  EXPECT_EQ(refused, 1);
+  EXPECT_EQ(accepted, 1);
+}
+
+// ---------------------------------------------------------------------------
+TEST(SplitEdge, SingleTetMidpoint) {
+  std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  BuildOptions opt;
+  opt.face_regions = {{10, 11, 12, 13}};
+  TetMesh m;
+  ASSERT_TRUE(m.build(p, {{0, 1, 2, 3}}, opt).ok);
+  index_t v = -1;
+  ASSERT_EQ(m.split_edge(0, 1, nullptr, &v), OpStatus::Ok);
+  EXPECT_EQ(v, 4);
+  EXPECT_EQ(tet_sets(m), sorted_sets({{4, 1, 2, 3}, {0, 4, 2, 3}}));
+  EXPECT_TRUE(m.point(v).isApprox(Vec3(0.5, 0, 0)));
+  EXPECT_EQ(m.vertex_class(v), VertexClass::Curve);  // edge between faces 12 and 13
+  EXPECT_EQ(m.vertex_origin(v).ids[0] + m.vertex_origin(v).ids[1], 1);
+  EXPECT_DOUBLE_EQ(m.vertex_origin(v).weights[0], 0.5);
+  EXPECT_EQ(boundary_faces(m), 6u);
+  // Regions follow the faces: faces opposite vertex 0 / 1 keep 10 / 11, and
+  // the split faces (containing the edge) keep 12 and 13.
+  std::multiset<index_t> regions;
+  for (index_t t = 0; t < m.tet_slots(); ++t) {
+    if (!m.tet_alive(t)) continue;
+    for (int f = 0; f < 4; ++f)
+      if (m.is_boundary_face(t, f)) regions.insert(m.face_region(t, f));
+  }
+  EXPECT_EQ(regions, (std::multiset<index_t>{10, 11, 12, 12, 13, 13}));
+  for (index_t t = 0; t < m.tet_slots(); ++t) {
+    if (m.tet_alive(t)) {
+      EXPECT_EQ(m.tet_origin(t), 0);
+    }
+  }
+  expect_valid(m);
+}
+
+TEST(SplitEdge, RefusesAPositionThatInverts) {
+  TetMesh m = two_tets();
+  const Snapshot before(m);
+  const Vec3 far(0.5, 0.0, 3.0);  // beyond apex 3
+  EXPECT_EQ(m.split_edge(0, 1, &far, nullptr), OpStatus::Inverted);
+  EXPECT_TRUE(Snapshot(m) == before);
+  EXPECT_EQ(m.split_edge(3, 4, nullptr, nullptr), OpStatus::InvalidArgument);  // not an edge
+}
+
+TEST(SplitFace, InteriorFaceGivesSixTets) {
+  TetMesh m = two_tets();
+  const double v0 = volume(m);
+  index_t v = -1;
+  ASSERT_EQ(m.split_face(0, 3, nullptr, &v), OpStatus::Ok);
+  EXPECT_EQ(v, 5);
+  EXPECT_EQ(m.vertex_class(v), VertexClass::Inner);
+  EXPECT_EQ(tet_sets(m), sorted_sets({{5, 1, 2, 3}, {0, 5, 2, 3}, {0, 1, 5, 3},
+                                      {5, 2, 1, 4}, {0, 5, 1, 4}, {0, 2, 5, 4}}));
+  EXPECT_NEAR(volume(m), v0, 1e-15);
+  EXPECT_EQ(boundary_faces(m), 6u);
+  expect_valid(m);
+}
+
+TEST(SplitFace, BoundaryFaceGivesThreeTets) {
+  std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  TetMesh m;
+  ASSERT_TRUE(m.build(p, {{0, 1, 2, 3}}).ok);
+  index_t v = -1;
+  ASSERT_EQ(m.split_face(0, 0, nullptr, &v), OpStatus::Ok);  // face (1, 2, 3)
+  EXPECT_EQ(tet_sets(m), sorted_sets({{0, 4, 2, 3}, {0, 1, 4, 3}, {0, 1, 2, 4}}));
+  EXPECT_EQ(m.vertex_class(v), VertexClass::Surface);
+  EXPECT_EQ(boundary_faces(m), 6u);
+  expect_valid(m);
+}
+
+// ---------------------------------------------------------------------------
+TEST(CollapseEdge, UndoesASplit) {
+  TetMesh m = two_tets();
+  index_t v = -1;
+  ASSERT_EQ(m.split_edge(3, 0, nullptr, &v), OpStatus::Ok);
+  ASSERT_EQ(m.half_edge_collapse(v, 3), OpStatus::Ok);
+  EXPECT_EQ(tet_sets(m), sorted_sets({{0, 1, 2, 3}, {0, 1, 2, 4}}));
+  EXPECT_FALSE(m.vertex_alive(v));
+  expect_valid(m);
+}
+
+TEST(CollapseEdge, LinkConditionRefusesASingleTet) {
+  std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  TetMesh m;
+  ASSERT_TRUE(m.build(p, {{0, 1, 2, 3}}).ok);
+  const Snapshot before(m);
+  EXPECT_EQ(m.collapse_edge(0, 1, nullptr), OpStatus::LinkCondition);
+  EXPECT_TRUE(Snapshot(m) == before);
+}
+
+TEST(CollapseEdge, RefusesInversionAndKeepsTheMesh) {
+  TetMesh m = two_tets();
+  index_t c = -1;
+  ASSERT_EQ(m.split_face(0, 3, nullptr, &c), OpStatus::Ok);  // interior vertex c
+  const Snapshot before(m);
+  const Vec3 far(0.3, 0.3, 5.0);
+  EXPECT_EQ(m.collapse_edge(c, 0, &far), OpStatus::Inverted);
+  EXPECT_TRUE(Snapshot(m) == before);
+  // Collapsing c onto vertex 0 keeps a valid mesh of the two original tets'
+  // union: back to ... four tets? No: c's six tets lose the two on edge (c, 0).
+  ASSERT_EQ(m.half_edge_collapse(c, 0), OpStatus::Ok);
+  EXPECT_EQ(tet_sets(m), sorted_sets({{0, 1, 2, 3}, {0, 1, 2, 4}}));
+  expect_valid(m);
+}
+
+// ---------------------------------------------------------------------------
+// The cube cut into 2 x 2 x 2 cells, faces in six regions: vertex classes and
+// the collapse rules of thesis Fig. 2.37.
+class CollapseRules : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    cube = testing::make_cube_mesh(2, 0.0, 1);
+    BuildOptions opt;
+    opt.face_regions = cube.face_regions;
+    ASSERT_TRUE(m.build(cube.points, cube.tets, opt).ok);
+  }
+  index_t id(int i, int j, int k) const { return (k * 3 + j) * 3 + i; }
+  testing::TestMesh cube;
+  TetMesh m;
+};
+
+TEST_F(CollapseRules, VertexClasses) {
+  EXPECT_EQ(m.vertex_class(id(0, 0, 0)), VertexClass::Corner);
+  EXPECT_EQ(m.vertex_class(id(1, 0, 0)), VertexClass::Curve);
+  EXPECT_EQ(m.vertex_class(id(1, 1, 0)), VertexClass::Surface);
+  EXPECT_EQ(m.vertex_class(id(1, 1, 1)), VertexClass::Inner);
+  EXPECT_TRUE(m.is_curve_edge(id(0, 0, 0), id(1, 0, 0)));
+  EXPECT_FALSE(m.is_curve_edge(id(1, 0, 0), id(1, 1, 0)));
+}
+
+TEST_F(CollapseRules, ForbiddenEdges) {
+  // Kuhn cells have the diagonals (i,j,k)-(i+1,j+1,k) etc. on their faces.
+  // (A) corner-corner: no such edge at n = 2; (B) curve-curve off the curve:
+  // (1,0,0)-(2,1,0)? (2,1,0) is a curve vertex of edge x=1,z=0.
+  ASSERT_TRUE(m.has_edge(id(1, 0, 0), id(2, 1, 0)));
+  EXPECT_EQ(m.plan_collapse_by_rules(id(1, 0, 0), id(2, 1, 0)).status, OpStatus::ForbiddenByRule);
+  // (C) interior edge between two surface vertices: (1,1,0)-(1,1,... none;
+  // take the interior diagonal from face centre (1,1,0) to edge vertex
+  // (2,2,1) if present, else from (0,1,1) to (1,2,2)... use any such edge.
+  int interior_surface_edges = 0;
+  for (index_t a = 0; a < 27; ++a)
+    for (index_t b = a + 1; b < 27; ++b) {
+      if (!m.has_edge(a, b) || m.vertex_class(a) == VertexClass::Inner || m.vertex_class(b) == VertexClass::Inner)
+        continue;
+      std::vector<index_t> ring;
+      bool on_boundary = false;
+      m.edge_ring(a, b, ring, &on_boundary);
+      if (on_boundary) continue;
+      ++interior_surface_edges;
+      EXPECT_EQ(m.plan_collapse_by_rules(a, b).status, OpStatus::ForbiddenByRule);
+    }
+  EXPECT_GT(interior_surface_edges, 0);
+}
+
+TEST_F(CollapseRules, PositionsFollowTheMoreConstrainedVertex) {
+  // (D) corner-curve along the curve: keeps the corner.
+  CollapsePlan p = m.plan_collapse_by_rules(id(1, 0, 0), id(0, 0, 0));
+  ASSERT_EQ(p.status, OpStatus::Ok);
+  EXPECT_EQ(p.keep, id(0, 0, 0));
+  EXPECT_TRUE(p.position.isApprox(Vec3(0, 0, 0)));
+  // (E) curve-surface: keeps the curve vertex.
+  p = m.plan_collapse_by_rules(id(1, 1, 0), id(1, 0, 0));
+  ASSERT_EQ(p.status, OpStatus::Ok);
+  EXPECT_EQ(p.keep, id(1, 0, 0));
+  // (F) surface-inner: keeps the surface vertex.
+  p = m.plan_collapse_by_rules(id(1, 1, 1), id(1, 1, 0));
+  ASSERT_EQ(p.status, OpStatus::Ok);
+  EXPECT_EQ(p.keep, id(1, 1, 0));
+  EXPECT_TRUE(p.position.isApprox(Vec3(0.5, 0.5, 0)));
+  // Collapse it: volume and boundary kept.
+  const double v0 = volume(m);
+  index_t kept = -1;
+  ASSERT_EQ(m.collapse_edge_by_rules(id(1, 1, 1), id(1, 1, 0), &kept), OpStatus::Ok);
+  EXPECT_EQ(kept, id(1, 1, 0));
+  EXPECT_NEAR(volume(m), v0, 1e-14);
+  EXPECT_FALSE(m.vertex_alive(id(1, 1, 1)));
+  expect_valid(m);
+}
+
+TEST_F(CollapseRules, SurfaceEdgeFlip) {
+  // On face z = 0 the Kuhn diagonal of cell (0,0) is (0,0,0)-(1,1,0); its two
+  // boundary triangles have apexes (1,0,0) and (0,1,0).
+  const index_t a = id(0, 0, 0), b = id(1, 1, 0), c = id(1, 0, 0), d = id(0, 1, 0);
+  ASSERT_TRUE(m.has_edge(a, b));
+  ASSERT_FALSE(m.has_edge(c, d));
+  const double v0 = volume(m);
+  const std::size_t nb = boundary_faces(m), nt = m.live_tets();
+  ASSERT_EQ(m.flip_surface_edge(a, b), OpStatus::Ok);
+  EXPECT_TRUE(m.has_edge(c, d));
+  EXPECT_FALSE(m.has_edge(a, b));
+  EXPECT_EQ(boundary_faces(m), nb);
+  EXPECT_EQ(m.live_vertices(), 27u);
+  EXPECT_GE(m.live_tets(), nt - 1);
+  EXPECT_NEAR(volume(m), v0, 1e-14);
+  expect_valid(m);
+  // A curve edge cannot be flipped this way.
+  EXPECT_EQ(m.flip_surface_edge(id(0, 0, 0), id(1, 0, 0)), OpStatus::ForbiddenByRule);
+}
+
+}  // namespace
+}  // namespace femorph

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Every FEMorph test on a fresh Debian 12 machine: installs what is needed,
+# builds everything (Release, with the ParaView plugin, into build/) and runs
+# ctest: core and filter unit tests (GoogleTest) and the plugin tests
+# (pvbatch/pvpython, the demo under Xvfb). Then builds the core tests again
+# with AddressSanitizer and UndefinedBehaviorSanitizer (build-asan/) and runs
+# them. Exits non-zero when a build or any test fails.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+jobs=$(nproc)
+
+bash Testing/Scripts/install_dependencies.sh
+
+status=0
+echo "=== Release build with the plugin (build/)"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release \
+  -DFEMORPH_BUILD_PLUGIN=ON -DFEMORPH_BUILD_TESTING=ON -DFEMORPH_BUILD_BENCHMARKS=ON \
+  -DFEMORPH_SANITIZE=OFF
+cmake --build build -j"$jobs"
+(cd build && ctest --output-on-failure -j"$jobs" --timeout 1800) || status=1
+
+echo "=== Core tests with AddressSanitizer + UBSan (build-asan/)"
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DFEMORPH_BUILD_PLUGIN=OFF -DFEMORPH_BUILD_TESTING=ON -DFEMORPH_BUILD_BENCHMARKS=OFF \
+  -DFEMORPH_SANITIZE=ON
+cmake --build build-asan -j"$jobs"
+(cd build-asan && ctest --output-on-failure -j"$jobs" --timeout 3600) || status=1
+
+if [[ $status -ne 0 ]]; then
+  echo "=== FAILED: see the ctest output above"
+else
+  echo "=== all tests passed"
+fi
+exit $status
