@@ -23,7 +23,11 @@
 // Each validates before it commits: no tet with non-positive volume (exact
 // predicate), no duplicate edge or face, the link condition for collapses. A
 // refused operation leaves the mesh untouched; an accepted one lists the live
-// tets it created or changed in touched_tets().
+// tets it created or changed in touched_tets(). Operations and queries take an
+// optional `hint`, a tet known to hold the edge, which spares a ball walk.
+//
+// Queries use scratch space inside the mesh: one TetMesh is not safe to use
+// from several threads at once, even through const methods.
 #pragma once
 
 #include "common/types.h"

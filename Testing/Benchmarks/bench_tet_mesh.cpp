@@ -152,15 +152,16 @@ BENCHMARK(BM_LocalOperations)->Unit(benchmark::kMillisecond)->UseManualTime()->I
 /// Keeps the medians for the summary table.
 class SummaryReporter : public benchmark::ConsoleReporter {
  public:
-  std::map<std::string, double> rate;  // items/s, median
-  std::map<std::string, double> ms;    // real time, median
+  std::map<std::string, double> rate;      // items/s, median of the repetitions
+  std::map<std::string, double> attempts;  // attempts/s, median
+  std::map<std::string, double> ms;        // wall time, median
   void ReportRuns(const std::vector<Run>& runs) override {
     ConsoleReporter::ReportRuns(runs);
     for (const Run& r : runs) {
       if (r.aggregate_name != "median") continue;
       const std::string name = r.run_name.function_name;
-      const auto it = r.counters.find("items_per_second");
-      if (it != r.counters.end()) rate[name] = it->second;
+      if (auto it = r.counters.find("items_per_second"); it != r.counters.end()) rate[name] = it->second;
+      if (auto it = r.counters.find("attempts/s"); it != r.counters.end()) attempts[name] = it->second;
       ms[name] = r.GetAdjustedRealTime();
     }
   }
@@ -177,26 +178,36 @@ int main(int argc, char** argv) {
   SummaryReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
 
+  // Summary: medians of the repetitions, the goals, and how many
+  // plain passes over the arrays each step costs (rate of the bound / rate).
   const double bound = reporter.rate["BM_PlainPass"];
   struct Row {
-    const char* key;
     const char* label;
+    double median_ms;
+    double rate;
     const char* unit;
     double goal;
   };
-  const Row rows[] = {{"BM_PlainPass", "plain pass over arrays (bound)", "tets/s", 0},
-                      {"BM_Build", "adjacency build (TetMesh::build)", "tets/s", 2e6},
-                      {"BM_QualityStretch", "quality pass: stretch", "tets/s", 20e6},
-                      {"BM_QualityAll", "quality pass: all measures", "tets/s", 0},
-                      {"BM_LocalOperations", "random local operations", "ops/s", 5e5}};
-  std::printf("\n%-36s %10s %14s %10s %8s %12s\n", "step (median of 5)", "ms", "rate", "goal", "met", "bound/rate");
+  const Row rows[] = {
+      {"plain pass over the arrays (bound)", reporter.ms["BM_PlainPass"], bound, "tets/s", 0},
+      {"adjacency build (TetMesh::build)", reporter.ms["BM_Build"], reporter.rate["BM_Build"], "tets/s", 2e6},
+      {"quality pass: stretch", reporter.ms["BM_QualityStretch"], reporter.rate["BM_QualityStretch"], "tets/s", 20e6},
+      {"quality pass: all measures", reporter.ms["BM_QualityAll"], reporter.rate["BM_QualityAll"], "tets/s", 0},
+      {"local operations, accepted", reporter.ms["BM_LocalOperations"], reporter.rate["BM_LocalOperations"], "ops/s", 5e5},
+      {"local operations, attempted", reporter.ms["BM_LocalOperations"], reporter.attempts["BM_LocalOperations"], "ops/s", 0},
+  };
+  std::printf("\n%-38s %10s %12s %-7s %10s %5s %11s\n", "step (median of 5 runs)", "time ms", "rate", "", "goal", "met",
+              "bound/rate");
   for (const Row& r : rows) {
-    const double rate = reporter.rate[r.key];
-    std::printf("%-36s %10.1f %11.3gM %-2s %8s %8s %12.1f\n", r.label, reporter.ms[r.key], rate / 1e6,
-                r.unit[0] == 't' ? "t" : "op", r.goal > 0 ? (std::to_string(static_cast<int>(r.goal / 1e3)) + "k").c_str() : "-",
-                r.goal > 0 ? (rate >= r.goal ? "yes" : "NO") : "", rate > 0 ? bound / rate : 0.0);
+    char goal[32] = "-", met[8] = "";
+    if (r.goal > 0) {
+      std::snprintf(goal, sizeof goal, "%.3g", r.goal);
+      std::snprintf(met, sizeof met, "%s", r.rate >= r.goal ? "yes" : "NO");
+    }
+    std::printf("%-38s %10.1f %12.4g %-7s %10s %5s %11.1f\n", r.label, r.median_ms, r.rate, r.unit, goal, met,
+                r.rate > 0 ? bound / r.rate : 0.0);
   }
-  std::printf("%-36s %10.1f %14s %10s %8s\n", "bytes per tet held by TetMesh", g_bytes_per_tet, "", "120",
+  std::printf("%-38s %10s %12.1f %-7s %10s %5s\n", "memory held by TetMesh", "", g_bytes_per_tet, "B/tet", "120",
               g_bytes_per_tet <= 120 ? "yes" : "NO");
   benchmark::Shutdown();
   return 0;
