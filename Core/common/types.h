@@ -15,6 +15,8 @@ using Vec3 = Eigen::Vector3d;
 /// codes 4*t + f must fit).
 using index_t = std::int32_t;
 constexpr index_t kInvalidIndex = -1;
+constexpr double kPi = 3.14159265358979323846;
+inline double degrees_to_radians(double deg) { return deg * kPi / 180.0; }
 using Tet = std::array<index_t, 4>;
 
 /// Result of a core function that can fail: ok, or a message for the user.

@@ -1,0 +1,53 @@
+#include "mesh/surface_mesh.h"
+#include "mesh/tet_mesh.h"
+
+#include <string>
+
+namespace femorph {
+
+Status extract_boundary_surface(const TetMesh& mesh, SurfaceMesh& out, SurfaceReport* report) {
+  const index_t nt = mesh.tet_slots();
+  const index_t nv = mesh.vertex_slots();
+
+  // Boundary faces in (tet, local face) order, as tet mesh vertex ids; the
+  // order kTetFace gives faces outward normals on positive tets.
+  std::vector<Tri> triangles;
+  std::vector<index_t> source_face;
+  std::vector<index_t> surface_id(static_cast<std::size_t>(nv), kInvalidIndex);
+  for (index_t t = 0; t < nt; ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const Tet& tet = mesh.tet(t);
+    for (int f = 0; f < 4; ++f) {
+      if (!mesh.is_boundary_face(t, f)) continue;
+      const Tri tri{{tet[kTetFace[f][0]], tet[kTetFace[f][1]], tet[kTetFace[f][2]]}};
+      for (index_t v : tri) surface_id[v] = 0;  // marked; numbered below
+      triangles.push_back(tri);
+      source_face.push_back(4 * t + f);
+    }
+  }
+  if (triangles.empty()) {
+    out = SurfaceMesh();
+    if (report) *report = SurfaceReport();
+    return Status::failure("the tet mesh has no boundary faces");
+  }
+
+  // Surface vertices numbered compactly in ascending tet mesh id.
+  std::vector<Vec3> points;
+  std::vector<index_t> source_vertex;
+  for (index_t v = 0; v < nv; ++v) {
+    if (surface_id[v] == kInvalidIndex) continue;
+    surface_id[v] = static_cast<index_t>(points.size());
+    points.push_back(mesh.point(v));
+    source_vertex.push_back(v);
+  }
+  for (Tri& tri : triangles)
+    for (index_t& v : tri) v = surface_id[v];
+
+  const Status built = build_surface_mesh(std::move(points), std::move(triangles), out, false, report);
+  if (!built) return Status::failure("boundary of the tet mesh: " + built.message);
+  out.source_vertex = std::move(source_vertex);
+  out.source_face = std::move(source_face);
+  return Status::success();
+}
+
+}  // namespace femorph

@@ -1,0 +1,148 @@
+#include "mesh/surface_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstddef>
+#include <string>
+
+namespace femorph {
+namespace {
+
+// A triangle whose doubled area is below this times its longest squared edge
+// has no usable normal (a needle or a cap flattened to rounding noise).
+constexpr double kDegenerateRatio = 1e-12;
+
+}  // namespace
+
+Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, SurfaceMesh& out,
+                          bool allow_open, SurfaceReport* report) {
+  out = SurfaceMesh();
+  if (report) *report = SurfaceReport();
+  const index_t np = static_cast<index_t>(points.size());
+  const index_t nf = static_cast<index_t>(triangles.size());
+  if (points.size() > static_cast<std::size_t>(INT32_MAX) || triangles.size() > static_cast<std::size_t>(INT32_MAX / 3))
+    return Status::failure("surface too large for 32-bit ids");
+
+  // Input checks: indices in range, three distinct vertices, finite points.
+  for (index_t f = 0; f < nf; ++f) {
+    const Tri& t = triangles[f];
+    for (int k = 0; k < 3; ++k)
+      if (t[k] < 0 || t[k] >= np)
+        return Status::failure("triangle " + std::to_string(f) + " refers to vertex " + std::to_string(t[k]) +
+                               " of " + std::to_string(np));
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
+      return Status::failure("triangle " + std::to_string(f) + " repeats a vertex");
+  }
+  for (index_t v = 0; v < np; ++v)
+    if (!points[v].allFinite()) return Status::failure("vertex " + std::to_string(v) + " is not finite");
+
+  out.points = std::move(points);
+  out.triangles = std::move(triangles);
+  const std::vector<Vec3>& p = out.points;
+  const std::vector<Tri>& tris = out.triangles;
+
+  // Normals and areas.
+  out.normals.resize(nf);
+  out.areas.resize(nf);
+  std::size_t degenerate = 0;
+#pragma omp parallel for schedule(static) reduction(+ : degenerate)
+  for (index_t f = 0; f < nf; ++f) {
+    const Vec3& a = p[tris[f][0]];
+    const Vec3 e1 = p[tris[f][1]] - a, e2 = p[tris[f][2]] - a;
+    const Vec3 c = e1.cross(e2);
+    const double twice_area = c.norm();
+    const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (e2 - e1).squaredNorm()});
+    out.areas[f] = 0.5 * twice_area;
+    if (twice_area > kDegenerateRatio * longest2 && twice_area > 0) {
+      out.normals[f] = c / twice_area;
+    } else {
+      out.normals[f].setZero();
+      ++degenerate;
+    }
+  }
+
+  // Vertex -> triangle incidence (CSR, triangles in ascending order).
+  out.vertex_offsets.assign(static_cast<std::size_t>(np) + 1, 0);
+  for (const Tri& t : tris)
+    for (int k = 0; k < 3; ++k) ++out.vertex_offsets[t[k] + 1];
+  for (index_t v = 0; v < np; ++v) out.vertex_offsets[v + 1] += out.vertex_offsets[v];
+  out.vertex_triangles.resize(static_cast<std::size_t>(nf) * 3);
+  {
+    std::vector<index_t> fill(out.vertex_offsets.begin(), out.vertex_offsets.end() - 1);
+    for (index_t f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) out.vertex_triangles[fill[tris[f][k]]++] = f;
+  }
+
+  // Edge adjacency: the triangles sharing edge (a, b) are found in the star of
+  // a. Each edge is counted once: by its lowest triangle.
+  out.neighbors.resize(nf);
+  std::size_t open = 0, nonmanifold = 0, misoriented = 0;
+  double length_sum = 0;
+  std::size_t edge_count = 0;
+#pragma omp parallel for schedule(static) reduction(+ : open, nonmanifold, misoriented, length_sum, edge_count)
+  for (index_t f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const index_t a = tris[f][k], b = tris[f][(k + 1) % 3];
+      index_t other = kInvalidIndex, lowest = f;
+      int count = 0;
+      bool same_direction = false;
+      for (index_t s = out.vertex_offsets[a]; s < out.vertex_offsets[a + 1]; ++s) {
+        const index_t g = out.vertex_triangles[s];
+        if (g == f) continue;
+        const Tri& t = tris[g];
+        const int ia = t[0] == a ? 0 : (t[1] == a ? 1 : 2);
+        if (t[(ia + 1) % 3] == b) {
+          same_direction = true;  // g also runs a -> b
+        } else if (t[(ia + 2) % 3] != b) {
+          continue;
+        }
+        ++count;
+        other = g;
+        lowest = std::min(lowest, g);
+      }
+      if (count == 1) {
+        out.neighbors[f][k] = other;
+        if (f < other) {
+          misoriented += same_direction;
+          length_sum += (p[b] - p[a]).norm();
+          ++edge_count;
+        }
+      } else {
+        out.neighbors[f][k] = kInvalidIndex;
+        if (count == 0) {
+          ++open;
+          length_sum += (p[b] - p[a]).norm();
+          ++edge_count;
+        } else if (lowest == f) {
+          ++nonmanifold;
+        }
+      }
+    }
+  }
+  out.mean_edge_length = edge_count ? length_sum / static_cast<double>(edge_count) : 0.0;
+
+  if (report) {
+    report->open_edges = open;
+    report->nonmanifold_edges = nonmanifold;
+    report->misoriented_edges = misoriented;
+    report->degenerate_triangles = degenerate;
+  }
+  std::string problems;
+  auto add = [&problems](std::size_t n, const char* what) {
+    if (!n) return;
+    if (!problems.empty()) problems += ", ";
+    problems += std::to_string(n) + " " + what;
+  };
+  add(nonmanifold, "non-manifold edges (more than two triangles)");
+  if (!allow_open) add(open, "open edges (one triangle)");
+  add(misoriented, "edges whose two triangles are oriented inconsistently");
+  if (!problems.empty()) {
+    out = SurfaceMesh();
+    return Status::failure("surface is not a " + std::string(allow_open ? "" : "closed ") +
+                           "consistently oriented manifold: " + problems);
+  }
+  return Status::success();
+}
+
+}  // namespace femorph

@@ -1,0 +1,53 @@
+// Boundary re-estimation, thesis 2.4.4: the thesis compares, for boundary
+// triangles of a torus region's neighbours, the distances to both fitted
+// surfaces and gives each to the closer. Applied here to every region border,
+// since growing order decides ties at G1 boundaries (a triangle along a
+// tangent line lies within tolerance of both surfaces).
+#include "segment/segmentation_state.h"
+
+namespace femorph {
+namespace segment {
+
+void reestimate_region_boundaries(State& st) {
+  const SurfaceMesh& s = st.surface;
+  constexpr int kPasses = 4;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    int moved = 0;
+    for (index_t f = 0; f < s.num_triangles(); ++f) {
+      const index_t own = st.triangle_region[f];
+      if (own < 0) continue;
+      const WorkRegion& mine = st.regions[own];
+      const double d_own = mine.type == SurfaceType::Unknown ? 1e300 : st.triangle_distance(mine.surface, f);
+      index_t best = own;
+      double d_best = d_own;
+      for (int k = 0; k < 3; ++k) {
+        const index_t g = s.neighbors[f][k];
+        if (g < 0) continue;
+        const index_t other = st.triangle_region[g];
+        if (other < 0 || other == own || other == best) continue;
+        const WorkRegion& o = st.regions[other];
+        if (o.type == SurfaceType::Unknown || !st.triangle_on(o.surface, f)) continue;
+        const double d = st.triangle_distance(o.surface, f);
+        // Clearly closer: the margin keeps exact ties (both 0) where they are.
+        if (d < 0.5 * d_best) {
+          best = other;
+          d_best = d;
+        }
+      }
+      if (best == own) continue;
+      // Do not empty a region.
+      if (mine.triangles.size() <= 1) continue;
+      st.triangle_region[f] = best;
+      ++moved;
+    }
+    // Rebuild the triangle lists from the assignment.
+    for (WorkRegion& r : st.regions) r.triangles.clear();
+    for (index_t f = 0; f < s.num_triangles(); ++f)
+      if (st.triangle_region[f] >= 0) st.regions[st.triangle_region[f]].triangles.push_back(f);
+    for (WorkRegion& r : st.regions) r.alive = r.alive && !r.triangles.empty();
+    if (!moved) break;
+  }
+}
+
+}  // namespace segment
+}  // namespace femorph

@@ -1,0 +1,201 @@
+// Shared machinery of the segmentation steps: fitting a region and region
+// integration by alternate growing and refitting (thesis 2.4.3.3).
+#include "segment/segmentation_state.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace femorph {
+namespace segment {
+
+std::vector<index_t> State::vertices_of(const std::vector<index_t>& triangles) const {
+  std::vector<index_t> v;
+  v.reserve(3 * triangles.size());
+  for (index_t f : triangles)
+    for (index_t w : surface.triangles[f]) v.push_back(w);
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  return v;
+}
+
+std::vector<Vec3> State::positions(const std::vector<index_t>& vertices) const {
+  std::vector<Vec3> p;
+  p.reserve(vertices.size());
+  for (index_t v : vertices) p.push_back(surface.points[v]);
+  return p;
+}
+
+Vec3 State::vertex_normal(index_t v) const {
+  if (curvature.vertex_valid.size() > static_cast<std::size_t>(v) && curvature.vertex_valid[v])
+    return curvature.vertex_normal[v];
+  Vec3 n = Vec3::Zero();
+  for (index_t i = surface.vertex_offsets[v]; i < surface.vertex_offsets[v + 1]; ++i) {
+    const index_t f = surface.vertex_triangles[i];
+    n += surface.areas[f] * surface.normals[f];
+  }
+  const double len = n.norm();
+  return len > 0 ? Vec3(n / len) : n;
+}
+
+std::vector<Vec3> State::normals(const std::vector<index_t>& vertices) const {
+  std::vector<Vec3> n;
+  n.reserve(vertices.size());
+  for (index_t v : vertices) n.push_back(vertex_normal(v));
+  return n;
+}
+
+double State::triangle_distance(const SurfacePrimitive& s, index_t f) const {
+  double d = 0;
+  for (index_t v : surface.triangles[f]) d = std::max(d, distance(s, surface.points[v]));
+  return d;
+}
+
+bool State::triangle_on(const SurfacePrimitive& s, index_t f) const {
+  if (triangle_distance(s, f) > tolerance) return false;
+  // A triangle lying on the surface also faces along it (a flat triangle
+  // inscribed in a curved surface deviates by about half its angular span).
+  const Vec3& n = surface.normals[f];
+  if (n.squaredNorm() == 0) return true;  // degenerate: distances decide
+  const Tri& t = surface.triangles[f];
+  const Vec3 c = (surface.points[t[0]] + surface.points[t[1]] + surface.points[t[2]]) / 3.0;
+  constexpr double kCos30 = 0.8660254037844387;
+  return std::abs(n.dot(surface_normal(s, c))) >= kCos30;
+}
+
+namespace {
+
+/// Area-weighted vertex normals restricted to the given triangles: at a sharp
+/// edge or a region border only the region's own side counts.
+std::vector<Vec3> region_normals(const State& st, const std::vector<index_t>& triangles,
+                                 const std::vector<index_t>& vertices) {
+  std::vector<Vec3> n(vertices.size(), Vec3::Zero());
+  for (index_t f : triangles)
+    for (index_t w : st.surface.triangles[f]) {
+      const auto it = std::lower_bound(vertices.begin(), vertices.end(), w);
+      n[it - vertices.begin()] += st.surface.areas[f] * st.surface.normals[f];
+    }
+  for (Vec3& v : n) {
+    const double len = v.norm();
+    if (len > 0) v /= len;
+  }
+  return n;
+}
+
+}  // namespace
+
+FitResult fit_region(const State& st, SurfaceType type, const std::vector<index_t>& triangles,
+                     const std::vector<Vec3>* max_dirs) {
+  const std::vector<index_t> vertices = st.vertices_of(triangles);
+  const std::vector<Vec3> points = st.positions(vertices);
+  const std::vector<Vec3> normals = region_normals(st, triangles, vertices);
+  RansacParams rp;
+  rp.iterations = st.params.ransac_iterations;
+  rp.inlier_tolerance = st.tolerance;
+  rp.max_cone_half_angle = degrees_to_radians(st.params.max_cone_half_angle_deg);
+  rp.seed = st.params.random_seed;
+  FitResult fit;
+  switch (type) {
+    case SurfaceType::Plane: return fit_plane(points, &normals);
+    case SurfaceType::Cylinder: fit = fit_cylinder(points, normals); break;
+    case SurfaceType::Cone: fit = ransac_cone(points, normals, rp); break;
+    case SurfaceType::Sphere: {
+      fit = fit_sphere(points);
+      if (!fit.ok || fit.max_abs > st.tolerance) {
+        const FitResult r = ransac_sphere(points, normals, rp);
+        if (r.ok && (!fit.ok || r.rms < fit.rms)) fit = r;
+      }
+      break;
+    }
+    case SurfaceType::Torus: {
+      // max_dirs are per vertex of the region when given.
+      std::vector<Vec3> dirs;
+      if (max_dirs) dirs = *max_dirs;
+      fit = ransac_torus(points, normals, max_dirs ? &dirs : nullptr, rp);
+      break;
+    }
+    default: return fit;
+  }
+  if (!fit.ok) return fit;
+  const FitResult refined = refine_fit_lm(fit.surface, points);
+  if (refined.ok && refined.rms <= fit.rms) return refined;
+  return fit;
+}
+
+WorkRegion integrate_region(const State& st, SurfaceType type, const std::vector<index_t>& seed,
+                            const FitResult& initial) {
+  WorkRegion region;
+  region.type = type;
+  if (!initial.ok || seed.empty()) {
+    region.alive = false;
+    return region;
+  }
+  region.surface = initial.surface;
+  const SurfaceMesh& s = st.surface;
+  std::vector<char> in_region(static_cast<std::size_t>(s.num_triangles()), 0);
+  // Keep only the seed triangles that lie on the initial fit.
+  for (index_t f : seed)
+    if (st.triangle_region[f] < 0 && st.triangle_on(region.surface, f)) {
+      region.triangles.push_back(f);
+      in_region[f] = 1;
+    }
+  if (region.triangles.empty()) {
+    region.alive = false;
+    return region;
+  }
+  constexpr int kMaxRounds = 8;
+  std::vector<index_t> frontier;
+  for (int round = 0; round < kMaxRounds; ++round) {
+    // Region growing by distance: breadth-first over unassigned neighbours
+    // lying on the current fit.
+    const std::size_t before = region.triangles.size();
+    frontier = region.triangles;
+    while (!frontier.empty()) {
+      const index_t f = frontier.back();
+      frontier.pop_back();
+      for (int k = 0; k < 3; ++k) {
+        const index_t g = s.neighbors[f][k];
+        if (g < 0 || in_region[g] || st.triangle_region[g] >= 0) continue;
+        if (!st.triangle_on(region.surface, g)) continue;
+        in_region[g] = 1;
+        region.triangles.push_back(g);
+        frontier.push_back(g);
+      }
+    }
+    // Refit on the grown region: exact least squares for planes, LM from the
+    // current surface for the others.
+    const std::vector<index_t> vertices = st.vertices_of(region.triangles);
+    const std::vector<Vec3> points = st.positions(vertices);
+    FitResult refit = type == SurfaceType::Plane ? fit_plane(points, nullptr) : refine_fit_lm(region.surface, points);
+    if (type == SurfaceType::Plane && refit.ok && refit.surface.axis.dot(region.surface.axis) < 0) {
+      refit.surface.axis = -refit.surface.axis;
+    }
+    if (refit.ok) {
+      region.surface = refit.surface;
+      region.fit_rms = refit.rms;
+      region.fit_max = refit.max_abs;
+    } else {
+      const FitResult e = evaluate_fit(region.surface, points);
+      region.fit_rms = e.rms;
+      region.fit_max = e.max_abs;
+    }
+    if (region.triangles.size() == before && round > 0) break;
+  }
+  // Drop triangles the final fit no longer accepts (rare: the seed was wider
+  // than the surface).
+  std::vector<index_t> kept;
+  for (index_t f : region.triangles)
+    if (st.triangle_on(region.surface, f)) kept.push_back(f);
+  region.triangles.swap(kept);
+  region.alive = !region.triangles.empty();
+  return region;
+}
+
+index_t add_region(State& st, WorkRegion region) {
+  const index_t id = static_cast<index_t>(st.regions.size());
+  for (index_t f : region.triangles) st.triangle_region[f] = id;
+  st.regions.push_back(std::move(region));
+  return id;
+}
+
+}  // namespace segment
+}  // namespace femorph

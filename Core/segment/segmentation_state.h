@@ -1,0 +1,92 @@
+// Working state shared by the steps of segment_surface (thesis 2.4, A11-A16).
+// Internal to Core/segment.
+#pragma once
+
+#include "geometry/fit_primitives.h"
+#include "segment/detect_sharp_edges.h"
+#include "segment/normal_tensor_curvature.h"
+#include "segment/segmentation.h"
+
+#include <vector>
+
+namespace femorph {
+namespace segment {
+
+/// A region while it is being extracted.
+struct WorkRegion {
+  SurfaceType type = SurfaceType::Unknown;
+  SurfacePrimitive surface;
+  std::vector<index_t> triangles;
+  double fit_rms = 0, fit_max = 0;
+  bool alive = true;
+};
+
+struct State {
+  const SurfaceMesh& surface;
+  const SegmentationParams& params;
+  SharpEdges sharp;
+  Curvature curvature;
+  /// Per triangle: index into regions, or -1 while unassigned.
+  std::vector<index_t> triangle_region;
+  std::vector<WorkRegion> regions;
+  /// Absolute distance under which a vertex lies on a fitted surface.
+  double tolerance = 0;
+  /// A length of the part (bounding box diagonal), for relative comparisons.
+  double scale = 1;
+  std::vector<std::string> warnings;
+
+  State(const SurfaceMesh& s, const SegmentationParams& p) : surface(s), params(p) {}
+
+  /// Distinct vertices of a triangle set.
+  std::vector<index_t> vertices_of(const std::vector<index_t>& triangles) const;
+  /// Positions (and vertex normals) of vertices.
+  std::vector<Vec3> positions(const std::vector<index_t>& vertices) const;
+  std::vector<Vec3> normals(const std::vector<index_t>& vertices) const;
+  /// Largest distance of a triangle's vertices to a surface.
+  double triangle_distance(const SurfacePrimitive& s, index_t triangle) const;
+  /// Whether the triangle lies on s: its vertices within tolerance and its
+  /// normal agreeing with the surface normal (same side, within 30 degrees).
+  bool triangle_on(const SurfacePrimitive& s, index_t triangle) const;
+  /// Unit normal at a vertex: the curvature's when valid, else the
+  /// area-weighted mean of its triangles' normals.
+  Vec3 vertex_normal(index_t v) const;
+};
+
+/// Fits a surface of `type` to the vertices of `triangles` (the type's direct
+/// fit, RANSAC for cones/spheres/tori, then LM). ok = false if no fit.
+FitResult fit_region(const State& state, SurfaceType type, const std::vector<index_t>& triangles,
+                     const std::vector<Vec3>* max_dirs = nullptr);
+
+/// Region integration, thesis 2.4.3.3: starting from `seed` triangles and a
+/// fit of `type`, alternately grows the region over unassigned triangles
+/// lying on the fitted surface (region growing by distance) and refits,
+/// until nothing changes. Returns the grown region (not yet registered in
+/// state.triangle_region); an empty region if the seed does not fit.
+WorkRegion integrate_region(const State& state, SurfaceType type, const std::vector<index_t>& seed,
+                            const FitResult& initial);
+
+/// Registers a region: assigns its triangles. Returns its index.
+index_t add_region(State& state, WorkRegion region);
+
+/// Connected components (through shared edges, not crossing sharp edges when
+/// `stop_at_sharp`) of the triangles for which `member` is true.
+template <class Member>
+std::vector<std::vector<index_t>> connected_components(const State& state, bool stop_at_sharp, Member member);
+
+// The steps, one file each.
+void extract_planar_regions(State& state);       // A13, planes
+void extract_cylindrical_regions(State& state);  // A13, cylinders (with the cone check)
+void extract_conical_regions(State& state);      // A13, cones (RANSAC over seed regions)
+void extract_spherical_regions(State& state);    // A13, spheres
+void extract_torus_regions(State& state);        // A14, with the false-region merges and torus -> sphere
+void classify_remaining_regions(State& state);   // beyond the thesis: leftovers get the best-fitting primitive or unknown
+void reestimate_region_boundaries(State& state); // A14 boundary re-estimation, applied to every region border
+void merge_equal_regions(State& state);          // adjacent regions with one surface become one
+void refine_region_fits(State& state);           // A15, Levenberg-Marquardt
+void build_region_graph(const State& state, Segmentation& out);          // adjacency, G0/G1, convexity
+void recognize_boundary_curves(const State& state, Segmentation& out);  // A16
+
+}  // namespace segment
+}  // namespace femorph
+
+#include "segment/segmentation_state_impl.h"
