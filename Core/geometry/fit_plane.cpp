@@ -14,7 +14,7 @@ FitResult fit_plane(const std::vector<Vec3>& points, const std::vector<Vec3>* no
   for (const Vec3& p : points) scatter += (p - centroid) * (p - centroid).transpose();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
   // Collinear (or coincident) points span no plane.
-  if (!(eigen.eigenvalues()(1) > 1e-24 * eigen.eigenvalues()(2))) return result;
+  if (!(eigen.eigenvalues()(1) > 1e-14 * eigen.eigenvalues()(2))) return result;
   Vec3 normal = eigen.eigenvectors().col(0);
   if (normals != nullptr && !normals->empty()) {
     Vec3 mean = Vec3::Zero();

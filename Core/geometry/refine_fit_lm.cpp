@@ -6,8 +6,6 @@ namespace femorph {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Each model holds the control variables of Fig. 2.16 in normalised
 // coordinates (points centred and scaled to unit rms radius). A step is taken
 // in local increments that are minimal (an axis turns by two angles about

@@ -15,26 +15,15 @@ namespace {
 constexpr SurfaceType kOrder[] = {SurfaceType::Plane, SurfaceType::Cylinder, SurfaceType::Sphere, SurfaceType::Cone,
                                   SurfaceType::Torus};
 
-/// Minimum number of distinct vertices for a fit of each type to mean
-/// anything (more than the type's parameters).
-std::size_t min_vertices(SurfaceType type) {
-  switch (type) {
-    case SurfaceType::Plane: return 4;
-    case SurfaceType::Sphere: return 6;
-    case SurfaceType::Cylinder: return 7;
-    case SurfaceType::Cone: return 8;
-    default: return 9;
-  }
-}
-
 /// Tries each type on `triangles`; registers and returns true on the first
-/// whose fit every triangle lies on.
+/// whose fit every triangle lies on (integrate_region also refuses fits that
+/// a simpler type nearly matches).
 bool try_whole(State& st, const std::vector<index_t>& triangles) {
   const std::size_t nv = st.vertices_of(triangles).size();
   for (SurfaceType type : kOrder) {
     if (nv < min_vertices(type)) continue;
     const FitResult fit = fit_region(st, type, triangles);
-    if (!fit.ok || fit.max_abs > st.tolerance) continue;
+    if (!fit.ok || fit.max_abs > st.tolerance || !plausible_fit(st, fit.surface, triangles)) continue;
     bool all_on = true;
     for (index_t f : triangles) all_on = all_on && st.triangle_on(fit.surface, f);
     if (!all_on) continue;

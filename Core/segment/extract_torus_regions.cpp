@@ -90,7 +90,7 @@ void extract_torus_regions(State& st) {
   for (WorkRegion& region : st.regions) {
     if (!region.alive || region.type != SurfaceType::Torus) continue;
     const FitResult sphere = fit_region(st, SurfaceType::Sphere, region.triangles);
-    if (!sphere.ok || sphere.max_abs > st.tolerance) continue;
+    if (!sphere.ok || sphere.max_abs > st.tolerance || !plausible_fit(st, sphere.surface, region.triangles)) continue;
     bool all_on = true;
     for (index_t f : region.triangles) all_on = all_on && st.triangle_on(sphere.surface, f);
     if (!all_on) continue;

@@ -1,44 +1,64 @@
-// Adjacent regions of one type with the same fitted surface are one surface
-// region (a cylinder reached from two seeds, a plane cut by a seam).
+// Adjacent regions of one type that are one surface become one region (a
+// cylinder reached from two seeds, a torus split by the sign of a noisy
+// Gaussian curvature): merged when every triangle of the smaller lies on
+// the larger one's fitted surface. A tiny region (one or two triangles, as
+// seeds leave along G1 boundaries) is absorbed likewise whatever its type.
 #include "segment/segmentation_state.h"
 
-#include <numeric>
+#include <algorithm>
+#include <set>
 
 namespace femorph {
 namespace segment {
 
 void merge_equal_regions(State& st) {
   const SurfaceMesh& s = st.surface;
-  const index_t n = static_cast<index_t>(st.regions.size());
-  std::vector<index_t> parent(static_cast<std::size_t>(n));
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](index_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  const double rel = 1e3 * st.tolerance / st.scale;  // loose: both fits are accurate
-  for (index_t f = 0; f < s.num_triangles(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const index_t g = s.neighbors[f][k];
-      if (g < 0 || g < f) continue;
-      const index_t a = find(st.triangle_region[f]), b = find(st.triangle_region[g]);
-      if (a < 0 || b < 0 || a == b) continue;
-      const WorkRegion& ra = st.regions[a];
-      const WorkRegion& rb = st.regions[b];
-      if (ra.type != rb.type || ra.type == SurfaceType::Unknown) continue;
-      if (!same_surface(ra.surface, rb.surface, rel, st.scale, 1e-3)) continue;
-      // Check for real: every triangle of b lies on a's surface.
+  constexpr std::size_t kTiny = 2;
+  for (int pass = 0; pass < 8; ++pass) {
+    // Adjacent pairs of one type.
+    std::set<std::pair<index_t, index_t>> pairs;
+    for (index_t f = 0; f < s.num_triangles(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const index_t g = s.neighbors[f][k];
+        if (g < 0) continue;
+        index_t a = st.triangle_region[f], b = st.triangle_region[g];
+        if (a < 0 || b < 0 || a == b) continue;
+        const bool tiny = st.regions[a].triangles.size() <= kTiny || st.regions[b].triangles.size() <= kTiny;
+        if (!tiny && st.regions[a].type != st.regions[b].type) continue;
+        pairs.emplace(std::min(a, b), std::max(a, b));
+      }
+    int merged = 0;
+    for (auto [a, b] : pairs) {
+      if (!st.regions[a].alive || !st.regions[b].alive) continue;
+      if (st.regions[a].triangles.size() < st.regions[b].triangles.size()) std::swap(a, b);
+      WorkRegion& big = st.regions[a];
+      WorkRegion& small = st.regions[b];
+      if (big.type == SurfaceType::Unknown) continue;
       bool all_on = true;
-      for (index_t h : rb.triangles) all_on = all_on && st.triangle_on(ra.surface, h);
+      for (index_t h : small.triangles) all_on = all_on && st.triangle_on(big.surface, h);
       if (!all_on) continue;
-      parent[b] = a;
+      for (index_t h : small.triangles) st.triangle_region[h] = a;
+      big.triangles.insert(big.triangles.end(), small.triangles.begin(), small.triangles.end());
+      small.triangles.clear();
+      small.alive = false;
+      ++merged;
     }
-  for (index_t f = 0; f < s.num_triangles(); ++f)
-    if (st.triangle_region[f] >= 0) st.triangle_region[f] = find(st.triangle_region[f]);
-  for (WorkRegion& r : st.regions) r.triangles.clear();
-  for (index_t f = 0; f < s.num_triangles(); ++f)
-    if (st.triangle_region[f] >= 0) st.regions[st.triangle_region[f]].triangles.push_back(f);
-  for (WorkRegion& r : st.regions) r.alive = !r.triangles.empty();
+    if (!merged) break;
+    // Refit the grown regions before the next pass.
+    for (WorkRegion& r : st.regions) {
+      if (!r.alive || r.type == SurfaceType::Unknown) continue;
+      const std::vector<Vec3> points = st.positions(st.vertices_of(r.triangles));
+      const FitResult fit = r.type == SurfaceType::Plane ? fit_plane(points, nullptr) : refine_fit_lm(r.surface, points);
+      if (fit.ok) {
+        if (r.type == SurfaceType::Plane && fit.surface.axis.dot(r.surface.axis) < 0) {
+          r.surface.point = fit.surface.point;
+          r.surface.axis = -fit.surface.axis;
+        } else {
+          r.surface = fit.surface;
+        }
+      }
+    }
+  }
 }
 
 }  // namespace segment

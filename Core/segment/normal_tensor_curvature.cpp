@@ -1,24 +1,45 @@
 #include "segment/normal_tensor_curvature.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdlib>
 
 namespace femorph {
 namespace {
 
-// The height fit of the normal refinement has five unknowns.
-constexpr int kFitUnknowns = 5;
-// Smallest / largest pivot of a normalised least-squares system below which
-// the neighbourhood does not determine the unknowns.
+// Smallest / largest pivot of a least-squares system (lengths normalised)
+// below which the neighbourhood does not determine the unknowns.
 constexpr double kMinPivotRatio = 1e-9;
-// A refinement that tilts the normal tensor's e1 by more than this (slope
-// 0.5, about 27 deg) is not trusted: the 1-ring is then not a graph over the
+// A refinement that tilts the normal tensor's e1 by more than this slope
+// (about 27 deg) is not trusted: the neighbourhood is not a graph over the
 // tangent plane.
 constexpr double kMaxRefinementSlope = 0.5;
+// The quadratic normal fit (5 unknowns) uses the 1-ring when it has at least
+// this many vertices; a smaller one is interpolated exactly, and near-
+// singular configurations then tilt the normal by degrees. Smaller 1-rings
+// use the 2-ring with a cubic fit (9 unknowns) when it has enough vertices.
+constexpr std::size_t kMinOneRing = 6;
+constexpr std::size_t kMinCubicPoints = 12;
+
+template <int N>
+using Mat = Eigen::Matrix<double, N, N>;
+template <int N>
+using Vec = Eigen::Matrix<double, N, 1>;
+
+// Solves the normal equations m x = rhs (m symmetric); false when m is
+// singular or too badly conditioned.
+template <int N>
+bool solve_least_squares(const Mat<N>& m, const Vec<N>& rhs, Vec<N>& x) {
+  const Eigen::LDLT<Mat<N>> ldlt(m);
+  const Vec<N> pivots = ldlt.vectorD().cwiseAbs();
+  if (ldlt.info() != Eigen::Success || !(pivots.maxCoeff() > 0) ||
+      pivots.minCoeff() < kMinPivotRatio * pivots.maxCoeff())
+    return false;
+  x = ldlt.solve(rhs);
+  return true;
+}
 
 // Calls fn(j) once for every vertex j joined to v by an edge. Around a vertex
 // of a closed surface each neighbour is the successor of v in exactly one
@@ -41,31 +62,33 @@ inline Vec3 tangent_towards(const Vec3& n, const Vec3& hint) {
   return t.normalized();
 }
 
-// Local height fit of a vertex: h = p u + q w + a u^2/2 + b u w + c w^2/2 in
-// the frame (f1, f2 = n0 x f1, n0), n0 the normal tensor's e1.
-struct HeightFit {
-  Vec3 n0 = Vec3::Zero(), f1 = Vec3::Zero();
-  std::array<double, kFitUnknowns> coef{};
-  bool ok = false;
-
-  // Unit normal of the fitted graph above the point x (relative to the vertex).
-  Vec3 normal_at(const Vec3& d) const {
-    const Vec3 f2 = n0.cross(f1);
+// Least-squares height function h(u, w) through the vertex at `origin` over
+// the points `ring`, in the frame (f1, f2, n0): slopes p, q, then the
+// quadratic terms, then (N = 9) the cubic ones. Returns the slopes.
+template <int N>
+bool fit_slopes(const std::vector<Vec3>& x, const std::vector<index_t>& ring, const Vec3& origin, const Vec3& f1,
+                const Vec3& f2, const Vec3& n0, double& p, double& q) {
+  double length_sum = 0;
+  for (index_t j : ring) length_sum += (x[j] - origin).norm();
+  if (!(length_sum > 0)) return false;
+  const double scale = static_cast<double>(ring.size()) / length_sum;  // slopes are scale-free
+  Mat<N> m = Mat<N>::Zero();
+  Vec<N> rhs = Vec<N>::Zero();
+  for (index_t j : ring) {
+    const Vec3 d = (x[j] - origin) * scale;
     const double u = d.dot(f1), w = d.dot(f2);
-    const double hu = coef[0] + coef[2] * u + coef[3] * w;
-    const double hw = coef[1] + coef[3] * u + coef[4] * w;
-    return (n0 - hu * f1 - hw * f2).normalized();
+    Vec<N> row;
+    row.template head<5>() << u, w, 0.5 * u * u, u * w, 0.5 * w * w;
+    if constexpr (N == 9) row.template tail<4>() << u * u * u, u * u * w, u * w * w, w * w * w;
+    m.noalias() += row * row.transpose();
+    rhs += d.dot(n0) * row;
   }
-};
-
-using Mat7 = Eigen::Matrix<double, 7, 7>;
-using Vec7 = Eigen::Matrix<double, 7, 1>;
-inline bool env_flag(const char* name, bool dflt) { const char* v = std::getenv(name); return v ? v[0] == '1' : dflt; }
-inline bool use_positions() { static bool b = env_flag("CURV_POS", true); return b; }
-inline bool slope_form() { static bool b = env_flag("CURV_SLOPE", true); return b; }
-inline int min_ring() { static int b = std::getenv("CURV_RING") ? atoi(std::getenv("CURV_RING")) : 6; return b; }
-inline int min_second() { static int b = std::getenv("CURV_MINSEC") ? atoi(std::getenv("CURV_MINSEC")) : 6; return b; }
-inline bool second_order() { static bool b = env_flag("CURV_SECOND", true); return b; }
+  Vec<N> s;
+  if (!solve_least_squares<N>(m, rhs, s)) return false;
+  p = s[0];
+  q = s[1];
+  return std::hypot(p, q) < kMaxRefinementSlope;
+}
 
 // Sign convention for unsigned directions: the largest component positive,
 // so that neighbouring vertices agree wherever the direction is stable.
@@ -81,20 +104,26 @@ inline Vec3 canonical_sign(const Vec3& d) {
 //  1. Eq. 2.1, the normal tensor N_i = sum n_t n_t^T over the triangles around
 //     i; its eigenvectors e1 (normal, oriented like the area-weighted mean of
 //     the triangle normals), e2, e3.
-//  2. (Not in the thesis.) e1 is refined by a least-squares height fit of the
-//     1-ring over the plane of (e2, e3): the vertices lie on the CAD surface,
-//     so the fitted slope gives a normal exact to second order, whereas the
-//     tensor's e1 of an irregular 1-ring is off by O(h). Eq. 2.3 divides
-//     normal differences by edge lengths, so those errors would become O(1)
-//     curvature errors and wrong principal directions.
-//  3. Eqs. 2.2-2.3: the shape operator in the tangent frame (e2, e3) from the
-//     neighbours' normal differences a_Ro = n_j - n_i against their tangent
-//     offsets a_Gr. Written in that 2D frame, A_Gr A_Gr^T is the invertible
+//  2. (Added.) e1 is refined by a least-squares height fit over (e2, e3) of
+//     the 1-ring (quadratic; the 2-ring and a cubic when the 1-ring has fewer
+//     than 6 vertices). The vertices lie on the CAD surface, so the fitted
+//     slope is exact to second order, whereas the tensor's e1 of an irregular
+//     1-ring is off by O(h): Eq. 2.3 divides normal differences by edge
+//     lengths, so that error would become an O(1) error of the curvatures
+//     and degrees of error in the principal directions.
+//  3. Eqs. 2.2-2.3: the shape operator S in the tangent frame (e2, e3), by
+//     least squares from the neighbours' a_Ro = n_j - n_i against their
+//     a_Gr (both written in the frame). In 2D, A_Gr A_Gr^T is the invertible
 //     2x2 block of the 3x3 matrix that Eqs. 2.4-2.5 make invertible by
-//     appending (n_i, 0). The operator is solved as a symmetric 2x2 (three
-//     unknowns by least squares), not symmetrised afterwards.
-//     Neighbours on sharp edges have no normal of their own (their tensor
-//     mixes two surfaces): the normal of i's height fit above them stands in.
+//     appending (n_i, 0). S is solved as a symmetric matrix (three
+//     unknowns), not symmetrised afterwards. (Added.) The linear model
+//     a_Ro = S a_Gr has an O(h) error where the curvature varies (cones,
+//     tori); a second-order term, the gradient of a cubic form C (four more
+//     unknowns), removes it, and the neighbours' heights above the tangent
+//     plane, -a_Dis.n_i = a_Gr^T S a_Gr / 2 + C(a_Gr), add one row each. A
+//     neighbour on a sharp edge has no normal (its tensor mixes two surfaces:
+//     thesis 2.4.2), so it gives only its height row: it lies on i's surface.
+//     Too few rows for seven unknowns: S alone (the thesis's linear model).
 //  4. k_max, k_min (by magnitude) and their directions from the 2x2 eigen
 //     decomposition. Signs: n outward, so dn/dx > 0 where convex.
 // Per triangle: the mean over its valid vertices.
@@ -109,157 +138,112 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   c.vertex_k_min.assign(np, 0.0);
   c.vertex_dir_max.assign(np, Vec3::Zero());
   c.vertex_dir_min.assign(np, Vec3::Zero());
-  std::vector<HeightFit> fits(np);
-  // Vertices whose normal tensor was evaluated (steps 1-2); read by every
-  // neighbour in steps 3-4, so kept apart from the final vertex_valid.
+  // Steps 1-2 give every evaluated vertex its normal and the tensor's e2,
+  // which orients the tangent frame of step 3. `evaluated` is read by every
+  // neighbour in step 3, so it is kept apart from the final vertex_valid.
+  std::vector<Vec3> frame_e2(np, Vec3::Zero());
   std::vector<char> evaluated(np, 0);
 
   // Steps 1-2: normal tensor, e1, refined normal.
 #pragma omp parallel
   {
-  std::vector<index_t> ring;  // the fit's neighbourhood
-  ring.reserve(64);
-#pragma omp for schedule(dynamic, 1024)
-  for (index_t i = 0; i < np; ++i) {
-    Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
-    Vec3 mean_normal = Vec3::Zero();
-    for (index_t q = surface.vertex_offsets[i]; q < surface.vertex_offsets[i + 1]; ++q) {
-      const index_t f = surface.vertex_triangles[q];
-      const Vec3& n = surface.normals[f];
-      tensor.noalias() += n * n.transpose();  // Eq. 2.1
-      mean_normal += surface.areas[f] * n;
-    }
-    if (mean_normal.squaredNorm() == 0) continue;  // no triangle with a normal
-    mean_normal.normalize();
-    c.vertex_normal[i] = mean_normal;
-    if (sharp.vertex_degree[i] != 0) continue;  // not evaluated (thesis 2.4.2)
-
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-    eig.computeDirect(tensor);
-    Vec3 e1 = eig.eigenvectors().col(2);  // eigenvalues ascending
-    if (e1.dot(mean_normal) < 0) e1 = -e1;
-    HeightFit& fit = fits[i];
-    fit.n0 = e1;
-    fit.f1 = tangent_towards(e1, eig.eigenvectors().col(1));  // e2
-    const Vec3 f2 = e1.cross(fit.f1);
-
-    // Height fit over the 1-ring; over the 2-ring when the 1-ring has fewer
-    // vertices than unknowns (grown only through vertices off sharp edges, so
-    // that it stays on i's surface). Lengths scaled by the mean distance.
-    ring.clear();
-    for_each_neighbour(surface, i, [&](index_t j) { ring.push_back(j); });
-    if (ring.size() < static_cast<std::size_t>(min_ring())) {
-      const std::size_t one_ring = ring.size();
-      for (std::size_t q = 0; q < one_ring; ++q) {
-        if (sharp.vertex_degree[ring[q]] != 0) continue;
-        for_each_neighbour(surface, ring[q], [&](index_t k) {
-          if (k != i && std::find(ring.begin(), ring.end(), k) == ring.end()) ring.push_back(k);
-        });
+    std::vector<index_t> ring;
+    ring.reserve(64);
+#pragma omp for schedule(dynamic, 256)
+    for (index_t i = 0; i < np; ++i) {
+      Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+      Vec3 mean_normal = Vec3::Zero();
+      for (index_t q = surface.vertex_offsets[i]; q < surface.vertex_offsets[i + 1]; ++q) {
+        const index_t f = surface.vertex_triangles[q];
+        const Vec3& n = surface.normals[f];
+        tensor.noalias() += n * n.transpose();  // Eq. 2.1
+        mean_normal += surface.areas[f] * n;
       }
-    }
-    double length_sum = 0;
-    for (index_t j : ring) length_sum += (x[j] - x[i]).norm();
-    Vec3 n = e1;
-    if (ring.size() >= static_cast<std::size_t>(kFitUnknowns) && length_sum > 0) {
-      const double scale = static_cast<double>(ring.size()) / length_sum;
-      Eigen::Matrix<double, kFitUnknowns, kFitUnknowns> m = Eigen::Matrix<double, kFitUnknowns, kFitUnknowns>::Zero();
-      Eigen::Matrix<double, kFitUnknowns, 1> rhs = Eigen::Matrix<double, kFitUnknowns, 1>::Zero();
-      for (index_t j : ring) {
-        const Vec3 d = (x[j] - x[i]) * scale;
-        const double u = d.dot(fit.f1), w = d.dot(f2), h = d.dot(e1);
-        Eigen::Matrix<double, kFitUnknowns, 1> row;
-        row << u, w, 0.5 * u * u, u * w, 0.5 * w * w;
-        m.selfadjointView<Eigen::Lower>().rankUpdate(row);
-        rhs += h * row;
-      }
-      m.triangularView<Eigen::StrictlyUpper>() = m.transpose();
-      const Eigen::LDLT<Eigen::Matrix<double, kFitUnknowns, kFitUnknowns>> ldlt(m);
-      const auto pivots = ldlt.vectorD().cwiseAbs();
-      if (ldlt.info() == Eigen::Success && pivots.minCoeff() > kMinPivotRatio * pivots.maxCoeff()) {
-        const Eigen::Matrix<double, kFitUnknowns, 1> s = ldlt.solve(rhs);
-        if (std::hypot(s[0], s[1]) < kMaxRefinementSlope) {
-          for (int k = 0; k < kFitUnknowns; ++k) fit.coef[k] = s[k];
-          // Back to unscaled lengths: slopes unchanged, second derivatives * scale.
-          for (int k = 2; k < kFitUnknowns; ++k) fit.coef[k] *= scale;
-          fit.ok = true;
-          n = (e1 - s[0] * fit.f1 - s[1] * f2).normalized();
+      if (mean_normal.squaredNorm() == 0) continue;  // no triangle with a normal
+      mean_normal.normalize();
+      c.vertex_normal[i] = mean_normal;  // what unevaluated vertices keep
+      if (sharp.vertex_degree[i] != 0) continue;  // not evaluated (thesis 2.4.2)
+
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(tensor);
+      Vec3 e1 = eig.eigenvectors().col(2);  // eigenvalues ascending
+      if (e1.dot(mean_normal) < 0) e1 = -e1;
+      const Vec3 f1 = tangent_towards(e1, eig.eigenvectors().col(1));  // e2
+      const Vec3 f2 = e1.cross(f1);
+
+      ring.clear();
+      for_each_neighbour(surface, i, [&](index_t j) { ring.push_back(j); });
+      const bool two_ring = ring.size() < kMinOneRing;
+      if (two_ring) {
+        // Grown only through vertices off sharp edges: it stays on i's surface.
+        const std::size_t one_ring = ring.size();
+        for (std::size_t q = 0; q < one_ring; ++q) {
+          if (sharp.vertex_degree[ring[q]] != 0) continue;
+          for_each_neighbour(surface, ring[q], [&](index_t k) {
+            if (k != i && std::find(ring.begin(), ring.end(), k) == ring.end()) ring.push_back(k);
+          });
         }
       }
+      double p = 0, q = 0;
+      bool fitted = false;
+      if (two_ring && ring.size() >= kMinCubicPoints) fitted = fit_slopes<9>(x, ring, x[i], f1, f2, e1, p, q);
+      if (!fitted && ring.size() >= 5) fitted = fit_slopes<5>(x, ring, x[i], f1, f2, e1, p, q);
+      c.vertex_normal[i] = fitted ? Vec3((e1 - p * f1 - q * f2).normalized()) : e1;
+      frame_e2[i] = f1;
+      evaluated[i] = 1;
     }
-    c.vertex_normal[i] = n;
-    evaluated[i] = 1;
-  }
   }
 
   // Steps 3-4: Eqs. 2.2-2.3 in the tangent frame of the refined normal.
-#pragma omp parallel for schedule(dynamic, 1024)
+  // Unknowns (a, b, c, D, E, F, G): S = [a b; b c] and
+  // C(u, w) = (D u^3 + 3E u^2 w + 3F u w^2 + G w^3) / 6. Rows per neighbour j,
+  // with g = a_Gr, r = a_Ro in the frame and z = a_Dis . n_i:
+  //   r = S g + grad C(g)                   (unless j is on a sharp edge)
+  //   -z / |g| = (g^T S g / 2 + C(g)) / |g|  (divided by |g| to weigh like r)
+  // Lengths scaled by the 1-ring's mean edge length.
+#pragma omp parallel for schedule(dynamic, 256)
   for (index_t i = 0; i < np; ++i) {
     if (!evaluated[i]) continue;
     const Vec3& n = c.vertex_normal[i];
-    const HeightFit& fit = fits[i];
-    const Vec3 t1 = tangent_towards(n, fit.f1), t2 = n.cross(t1);
-    // Least squares over the 1-ring for theta = (a, b, c, D, E, F, G):
-    //   normals    r_j = S g_j + grad C(g_j)          (2 rows, Eq. 2.3 + 2nd order)
-    //   positions -z_j = g_j^T S g_j / 2 + C(g_j)      (1 row, divided by |g_j|)
-    // S = [a b; b c], C(u, w) = (D u^3 + 3E u^2 w + 3F u w^2 + G w^3) / 6,
-    // g_j = a_Gr in (t1, t2), r_j = a_Ro in (t1, t2), z_j = a_Dis . n_i.
-    // Lengths scaled by the 1-ring's mean distance.
+    const Vec3 t1 = tangent_towards(n, frame_e2[i]), t2 = n.cross(t1);
     double length_sum = 0;
     int count = 0;
     for_each_neighbour(surface, i, [&](index_t j) {
       length_sum += (x[j] - x[i]).norm();
       ++count;
     });
-    if (!count || length_sum <= 0) continue;
+    if (!(length_sum > 0)) continue;
     const double scale = count / length_sum;
-    int with_normal = 0;
-    Mat7 m = Mat7::Zero();
-    Vec7 rhs = Vec7::Zero();
+    Mat<7> m = Mat<7>::Zero();
+    Vec<7> rhs = Vec<7>::Zero();
+    Vec<7> row;
     for_each_neighbour(surface, i, [&](index_t j) {
       const Vec3 d = (x[j] - x[i]) * scale;
       const double u = d.dot(t1), w = d.dot(t2), z = d.dot(n);
-      const double rho = std::hypot(u, w);
+      const double rho = std::sqrt(u * u + w * w);
       if (rho == 0) return;
-      Vec7 row;
-      if (use_positions()) {
-        row << 0.5 * u * u, u * w, 0.5 * w * w, u * u * u / 6, 0.5 * u * u * w, 0.5 * u * w * w, w * w * w / 6;
-        row /= rho;
-        m.selfadjointView<Eigen::Lower>().rankUpdate(row);
-        rhs -= (z / rho) * row;
-      }
-      if (!evaluated[j]) return;  // on a sharp edge: its normal mixes two surfaces
-      const Vec3& nj = c.vertex_normal[j];
-      ++with_normal;
-      double r1 = (nj - n).dot(t1), r2 = (nj - n).dot(t2);  // a_Ro
-      if (slope_form()) {
-        const double nz = nj.dot(n);
-        if (nz <= 0) return;
-        r1 /= nz;
-        r2 /= nz;
-      }
+      row << 0.5 * u * u, u * w, 0.5 * w * w, u * u * u / 6, 0.5 * u * u * w, 0.5 * u * w * w, w * w * w / 6;
+      row /= rho;
+      m.noalias() += row * row.transpose();
+      rhs -= (z / rho) * row;
+      if (!evaluated[j]) return;
+      const Vec3 ro = c.vertex_normal[j] - n;  // a_Ro
+      const double r1 = ro.dot(t1), r2 = ro.dot(t2);
       row << u, w, 0, 0.5 * u * u, u * w, 0.5 * w * w, 0;
-      m.selfadjointView<Eigen::Lower>().rankUpdate(row);
+      m.noalias() += row * row.transpose();
       rhs += r1 * row;
       row << 0, u, w, 0, 0.5 * u * u, u * w, 0.5 * w * w;
-      m.selfadjointView<Eigen::Lower>().rankUpdate(row);
+      m.noalias() += row * row.transpose();
       rhs += r2 * row;
     });
-    m.triangularView<Eigen::StrictlyUpper>() = m.transpose();
     Vec3 s;
-    int unknowns = second_order() && with_normal >= min_second() ? 7 : 3;
-    bool solved = false;
-    for (; unknowns >= 3 && !solved; unknowns -= 4) {
-      const Eigen::MatrixXd sub = m.topLeftCorner(unknowns, unknowns);
-      const Eigen::LDLT<Eigen::MatrixXd> ldlt(sub);
-      const auto pivots = ldlt.vectorD().cwiseAbs();
-      if (ldlt.info() != Eigen::Success || !(pivots.maxCoeff() > 0) ||
-          pivots.minCoeff() < kMinPivotRatio * pivots.maxCoeff())
-        continue;
-      const Eigen::VectorXd sol = ldlt.solve(rhs.head(unknowns));
-      s = sol.head<3>() * scale;
-      solved = true;
+    Vec<7> full;
+    if (solve_least_squares<7>(m, rhs, full)) {
+      s = full.head<3>();
+    } else if (!solve_least_squares<3>(m.topLeftCorner<3, 3>(), rhs.head<3>(), s)) {
+      continue;  // tangent offsets collinear: the operator is undetermined
     }
-    if (!solved) continue;  // tangent offsets collinear: operator undetermined
+    s *= scale;  // back to unscaled lengths
     const double a = s[0], b = s[1], cc = s[2];
     // Eigen decomposition of [a b; b cc]: lambda_+ along angle phi.
     const double mean = 0.5 * (a + cc), radius = std::hypot(0.5 * (a - cc), b);

@@ -35,8 +35,8 @@ void reestimate_region_boundaries(State& st) {
         }
       }
       if (best == own) continue;
-      // Do not empty a region.
-      if (mine.triangles.size() <= 1) continue;
+      // Do not empty a fitted region (an unknown one may vanish).
+      if (mine.type != SurfaceType::Unknown && mine.triangles.size() <= 1) continue;
       st.triangle_region[f] = best;
       ++moved;
     }

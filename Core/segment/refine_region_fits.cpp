@@ -19,6 +19,8 @@ void refine_region_fits(State& st) {
     } else if (st.params.refine_fits) {
       fit = refine_fit_lm(region.surface, points);
     }
+    // Keep the refinement only if it stays a plausible CAD surface.
+    if (fit.ok && region.type != SurfaceType::Plane && !plausible_fit(st, fit.surface, region.triangles)) fit.ok = false;
     if (!fit.ok) fit = evaluate_fit(region.surface, points);
     else region.surface = fit.surface;
     region.fit_rms = fit.rms;

@@ -59,6 +59,7 @@ Status segment_surface(const SurfaceMesh& surface, const SegmentationParams& par
   segment::classify_remaining_regions(st);
   segment::merge_equal_regions(st);
   segment::reestimate_region_boundaries(st);
+  segment::merge_equal_regions(st);  // regions the re-estimation left tiny
   out.times.tori = lap();
   if (!report(0.8, "fit refinement")) return aborted;
   segment::refine_region_fits(st);

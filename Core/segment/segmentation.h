@@ -29,8 +29,9 @@ struct SegmentationParams {
   /// more than this is a sphere seed (thesis: 60 deg).
   double sphere_direction_angle_deg = 60.0;
   /// Region growing: a vertex lies on a fitted surface when closer than this
-  /// times the mean edge length.
-  double distance_tolerance = 5e-3;
+  /// times the mean edge length. Meshes whose nodes are not exactly on the
+  /// CAD surfaces (remeshed, exported with few digits) need more, e.g. 0.05.
+  double distance_tolerance = 1e-2;
   /// RANSAC (cones, spheres, tori): iterations and seed (deterministic).
   int ransac_iterations = 500;
   std::uint64_t random_seed = 1;

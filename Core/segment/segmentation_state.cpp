@@ -186,8 +186,75 @@ WorkRegion integrate_region(const State& st, SurfaceType type, const std::vector
   for (index_t f : region.triangles)
     if (st.triangle_on(region.surface, f)) kept.push_back(f);
   region.triangles.swap(kept);
-  region.alive = !region.triangles.empty();
+  region.alive = st.vertices_of(region.triangles).size() >= min_vertices(type) &&
+                 plausible_fit(st, region.surface, region.triangles) &&
+                 !simpler_type_fits(st, type, region.triangles, region.fit_max);
   return region;
+}
+
+std::size_t min_vertices(SurfaceType type) {
+  switch (type) {
+    case SurfaceType::Plane: return 3;
+    case SurfaceType::Sphere: return 6;
+    case SurfaceType::Cylinder: return 7;
+    case SurfaceType::Cone: return 8;
+    default: return 9;
+  }
+}
+
+bool simpler_type_fits(const State& st, SurfaceType type, const std::vector<index_t>& triangles, double max_abs) {
+  constexpr double kNearly = 3.0;
+  const double bar = std::max(st.tolerance, kNearly * max_abs);
+  std::vector<SurfaceType> simpler;
+  switch (type) {
+    case SurfaceType::Cylinder:
+    case SurfaceType::Sphere: simpler = {SurfaceType::Plane}; break;
+    case SurfaceType::Cone:
+    case SurfaceType::Torus: simpler = {SurfaceType::Plane, SurfaceType::Cylinder, SurfaceType::Sphere}; break;
+    default: return false;
+  }
+  const std::size_t nv = st.vertices_of(triangles).size();
+  for (SurfaceType s : simpler) {
+    if (nv < min_vertices(s)) continue;
+    const FitResult fit = fit_region(st, s, triangles);
+    if (fit.ok && fit.max_abs <= bar) return true;
+  }
+  return false;
+}
+
+bool plausible_fit(const State& st, const SurfacePrimitive& s, const std::vector<index_t>& triangles) {
+  if (s.type == SurfaceType::Plane) return true;
+  if (s.type == SurfaceType::Unknown || triangles.empty()) return false;
+  Eigen::AlignedBox3d box;
+  for (index_t f : triangles)
+    for (index_t v : st.surface.triangles[f]) box.extend(st.surface.points[v]);
+  const double extent = box.diagonal().norm();
+  const Vec3 centre = box.center();
+  constexpr double kFar = 1000.0;  // times the region's extent
+  double rho = 0;                  // smallest radius of curvature over the region
+  switch (s.type) {
+    case SurfaceType::Cylinder:
+    case SurfaceType::Sphere: rho = s.radius; break;
+    case SurfaceType::Torus:
+      if (!(s.minor_radius < s.radius)) return false;  // not a ring torus
+      // A fillet torus goes around its axis: its major radius is of the order
+      // of the region; a huge one imitates a cylinder.
+      if (s.radius > 10.0 * extent) return false;
+      rho = s.minor_radius;
+      break;
+    case SurfaceType::Cone: {
+      const double max_angle = degrees_to_radians(st.params.max_cone_half_angle_deg);
+      if (s.half_angle < degrees_to_radians(1.0) || s.half_angle > max_angle) return false;
+      if ((centre - s.point).norm() > kFar * extent) return false;
+      const Vec3 d = centre - s.point;
+      const double to_axis = (d - d.dot(s.axis) * s.axis).norm();
+      rho = to_axis / std::cos(s.half_angle);
+      break;
+    }
+    default: return false;
+  }
+  if (!(rho > 0) || rho > kFar * extent) return false;
+  return extent * extent / (8.0 * rho) > st.tolerance;
 }
 
 index_t add_region(State& st, WorkRegion region) {

@@ -65,6 +65,25 @@ FitResult fit_region(const State& state, SurfaceType type, const std::vector<ind
 WorkRegion integrate_region(const State& state, SurfaceType type, const std::vector<index_t>& seed,
                             const FitResult& initial);
 
+/// Whether a fit is a plausible CAD surface for these triangles rather than a
+/// fit of noise (beyond the thesis): cones between 1 deg and the maximum
+/// half angle with the apex near the part, ring tori (r < R), and curvature
+/// that shows over the region (the sagitta e^2 / (8 rho) over the region's
+/// extent e exceeds the tolerance; otherwise a plane would do).
+bool plausible_fit(const State& state, const SurfacePrimitive& surface, const std::vector<index_t>& triangles);
+
+/// Minimum number of distinct vertices for a fit of `type` to mean anything
+/// (more than its parameters).
+std::size_t min_vertices(SurfaceType type);
+
+/// Whether a simpler type fits the triangles within the tolerance, or nearly
+/// as well as the fit of `type` whose largest distance is `max_abs` (within
+/// three times it): then a cone or torus is fitting noise rather than a
+/// cylinder or sphere, a curved fit rather than a plane (meshes whose nodes
+/// are not exactly on their CAD surfaces). On exact CAD meshes max_abs is
+/// ~1e-15 and only the tolerance counts.
+bool simpler_type_fits(const State& state, SurfaceType type, const std::vector<index_t>& triangles, double max_abs);
+
 /// Registers a region: assigns its triangles. Returns its index.
 index_t add_region(State& state, WorkRegion region);
 
