@@ -17,6 +17,10 @@ using index_t = std::int32_t;
 constexpr index_t kInvalidIndex = -1;
 constexpr double kPi = 3.14159265358979323846;
 inline double degrees_to_radians(double deg) { return deg * kPi / 180.0; }
+/// Loops over fewer items run on one thread: waking OpenMP's threads costs
+/// more than the work, and far more on a busy machine where a worker is not
+/// scheduled at once.
+constexpr long kParallelMinItems = 10000;
 using Tet = std::array<index_t, 4>;
 
 /// Result of a core function that can fail: ok, or a message for the user.

@@ -106,26 +106,28 @@ bool central_conic(const Conic& conic, const std::vector<Vector2d>& z, CurveType
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(conic.M);
   const Vector2d lambda = eigen.eigenvalues() / k;  // (z - c)^T (M / k) (z - c) = 1
   if (!lambda.allFinite()) return false;
+  // Dividing by k may reverse the eigenvalues' order.
+  const int small = lambda(0) < lambda(1) ? 0 : 1, large = 1 - small;
   if (type == CurveType::Ellipse) {
-    if (!(lambda(0) > 0 && lambda(1) > 0)) return false;
+    if (!(lambda(small) > 0)) return false;
     // The smaller eigenvalue belongs to the major axis.
     curve.center = frame.to_space(center);
-    curve.direction = frame.direction(eigen.eigenvectors().col(0));
-    curve.radius = frame.scale / std::sqrt(lambda(0));
-    curve.minor_radius = frame.scale / std::sqrt(lambda(1));
+    curve.direction = frame.direction(eigen.eigenvectors().col(small));
+    curve.radius = frame.scale / std::sqrt(lambda(small));
+    curve.minor_radius = frame.scale / std::sqrt(lambda(large));
     return true;
   }
   // Hyperbola: the transverse axis has the positive eigenvalue.
-  if (!(lambda(0) < 0 && lambda(1) > 0)) return false;
-  Vector2d transverse = eigen.eigenvectors().col(1);
-  const double a = 1 / std::sqrt(lambda(1));
+  if (!(lambda(small) < 0 && lambda(large) > 0)) return false;
+  Vector2d transverse = eigen.eigenvectors().col(large);
+  const double a = 1 / std::sqrt(lambda(large));
   Vector2d mean = Vector2d::Zero();
   for (const Vector2d& p : z) mean += p;
   if ((mean / static_cast<double>(z.size()) - center).dot(transverse) < 0) transverse = -transverse;  // the branch
   curve.center = frame.to_space(center + a * transverse);  // vertex of the branch
   curve.direction = frame.direction(transverse);
   curve.radius = frame.scale * a;
-  curve.minor_radius = frame.scale / std::sqrt(-lambda(0));
+  curve.minor_radius = frame.scale / std::sqrt(-lambda(small));
   return true;
 }
 
@@ -206,7 +208,12 @@ CurveFit classify_boundary_curve(const std::vector<Vec3>& points, bool closed, d
   if (plane.max_abs > tolerance) return fit;  // non-planar: unclassified
   PlaneFrame frame;
   frame.origin = plane.surface.point;
-  frame.normal = plane.surface.axis;
+  // Orient the normal by the right-hand rule along the chain, so that an arc
+  // runs counter-clockwise about it from start to end.
+  Vec3 swept = Vec3::Zero();
+  for (int i = 0; i + 1 < n; ++i) swept += (points[i] - centroid).cross(points[i + 1] - centroid);
+  if (closed) swept += (points[n - 1] - centroid).cross(points[0] - centroid);
+  frame.normal = swept.dot(plane.surface.axis) < 0 ? Vec3(-plane.surface.axis) : plane.surface.axis;
   frame.u = frame.normal.unitOrthogonal();
   frame.v = frame.normal.cross(frame.u);
   double scale = 0;

@@ -26,7 +26,9 @@ const char* to_string(CurveType type);
 
 /// Parameters of a curve (thesis 2.5.1.1):
 ///   line         start, end (the end points), direction (unit)
-///   circle       center, normal (of its plane, unit), radius
+///   circle       center, normal (of its plane, unit, oriented by the
+///                right-hand rule along the points: an arc runs counter-
+///                clockwise about it from start to end), radius
 ///   circular arc center, normal, radius, start, end
 ///   ellipse / elliptic arc  center, normal, direction (major axis, unit),
 ///                radius (semi-major), minor_radius (semi-minor); arcs: start, end

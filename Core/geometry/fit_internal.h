@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 #include <vector>
@@ -78,15 +79,23 @@ inline bool finite_surface(const SurfacePrimitive& s) {
 /// those that may beat the best on all of them, and stops after
 /// params.iterations samples or earlier once a better consensus is unlikely
 /// (probability below kMissProbability, after at least kMinIterations).
+/// Each new best model is refitted to its consensus set while that improves
+/// the consensus (local optimisation, as LO-RANSAC): with normals that err by
+/// a degree, minimal samples alone rarely give a model whose consensus is the
+/// whole surface.
 class Ransac {
  public:
+  /// Fits a model to the consensus set (indices) of `model`; false if none.
+  using Refit = std::function<bool(const SurfacePrimitive& model, const std::vector<int>&, SurfacePrimitive&)>;
+  static constexpr int kLocalSteps = 5;
+
   static constexpr int kSubsetSize = 200;
   static constexpr int kMinIterations = 50;
   static constexpr double kMissProbability = 1e-6;
 
-  Ransac(const std::vector<Vec3>& points, double tolerance, const RansacParams& params, int sample_size)
+  Ransac(const std::vector<Vec3>& points, double tolerance, const RansacParams& params, int sample_size, Refit refit)
       : points_(points), tolerance_(tolerance), max_iterations_(std::max(0, params.iterations)),
-        sample_size_(sample_size), rng_(params.seed) {
+        sample_size_(sample_size), rng_(params.seed), refit_(std::move(refit)) {
     const int n = static_cast<int>(points.size());
     if (n > 2 * kSubsetSize) {
       // Partial Fisher-Yates: the first kSubsetSize of a shuffled index list.
@@ -99,7 +108,7 @@ class Ransac {
 
   /// Whether to draw another sample (counts it).
   bool next() {
-    if (iterations_ >= max_iterations_) return false;
+    if (iterations_ >= max_iterations_ || static_cast<int>(points_.size()) < sample_size_) return false;
     if (iterations_ >= std::min(kMinIterations, max_iterations_) && has_best() &&
         iterations_ >= needed_iterations())
       return false;
@@ -120,23 +129,13 @@ class Ransac {
     }
   }
 
-  /// Scores a candidate; keeps it when its consensus beats the best.
+  /// Scores a candidate; keeps it when its consensus beats the best, then
+  /// refits the best to its consensus set while that improves it.
   void offer(const SurfacePrimitive& candidate) {
-    if (!finite_surface(candidate)) return;
-    int subset_inliers = -1;
-    if (!subset_.empty()) {
-      subset_inliers = score(candidate, &subset_).inliers;
-      // Sampling noise of the subset count: promote anything within two
-      // standard deviations of the best.
-      const double margin = 2.0 * std::sqrt(static_cast<double>(std::max(best_subset_, 0))) + 1.0;
-      if (has_best() && subset_inliers + margin < best_subset_) return;
-    }
-    const Consensus c = score(candidate, nullptr);
-    if (c.better_than(best_consensus_)) {
-      best_consensus_ = c;
-      best_ = candidate;
-      best_subset_ = subset_inliers;
-    }
+    if (!score_and_keep(candidate) || !refit_) return;
+    SurfacePrimitive refitted;
+    for (int step = 0; step < kLocalSteps; ++step)
+      if (!refit_(best_, inliers(), refitted) || !score_and_keep(refitted)) break;
   }
 
   bool has_best() const { return best_consensus_.inliers > 0; }
@@ -154,6 +153,28 @@ class Ransac {
   }
 
  private:
+  // Whether the candidate became the best.
+  bool score_and_keep(const SurfacePrimitive& candidate) {
+    if (!finite_surface(candidate)) return false;
+    Consensus on_subset;
+    if (!subset_.empty()) {
+      on_subset = score(candidate, &subset_);
+      // Full scoring only for what may beat the best: more inliers on the
+      // subset, or as many up to its sampling noise (two standard deviations)
+      // with a lower rms there.
+      const double margin = 2.0 * std::sqrt(static_cast<double>(std::max(best_subset_.inliers, 0))) + 1.0;
+      const bool promising = on_subset.inliers > best_subset_.inliers ||
+                             (on_subset.inliers + margin >= best_subset_.inliers && on_subset.rms < best_subset_.rms);
+      if (has_best() && !promising) return false;
+    }
+    const Consensus c = score(candidate, nullptr);
+    if (!c.better_than(best_consensus_)) return false;
+    best_consensus_ = c;
+    best_ = candidate;
+    best_subset_ = on_subset;
+    return true;
+  }
+
   Consensus score(const SurfacePrimitive& s, const std::vector<int>* subset) const {
     Consensus c;
     c.inliers = 0;
@@ -190,12 +211,27 @@ class Ransac {
   int max_iterations_;
   int sample_size_;
   std::mt19937_64 rng_;
+  Refit refit_;
   std::vector<int> subset_;
   int iterations_ = 0;
   SurfacePrimitive best_;
   Consensus best_consensus_;
-  int best_subset_ = -1;
+  Consensus best_subset_;
 };
+
+/// The inliers whose normal agrees with the model's (sign ignored) within
+/// kNormalAgreement: refits from normals must not take the normals of other
+/// surfaces' points that happen to lie near the model (Schnabel 2007 scores
+/// the normal deviation for the same reason).
+inline std::vector<int> normal_consistent(const SurfacePrimitive& model, const std::vector<Vec3>& points,
+                                          const std::vector<Vec3>& normals, const std::vector<int>& inliers) {
+  const double kNormalAgreement = std::cos(20.0 * kPi / 180.0);
+  std::vector<int> out;
+  out.reserve(inliers.size());
+  for (int i : inliers)
+    if (std::abs(normals[i].dot(surface_normal(model, points[i]))) >= kNormalAgreement) out.push_back(i);
+  return out;
+}
 
 /// Picks points by index.
 inline std::vector<Vec3> gather(const std::vector<Vec3>& points, const std::vector<int>& indices) {

@@ -29,9 +29,10 @@ FitResult evaluate_fit(const SurfacePrimitive& surface, const std::vector<Vec3>&
 FitResult fit_plane(const std::vector<Vec3>& points, const std::vector<Vec3>* normals = nullptr);
 
 /// Cylinder, thesis Fig. 2.9: the axis is the normal of the plane fitted to
-/// the unit normals mapped onto the Gaussian sphere; points projected along
-/// the axis get a least-squares circle (centre and radius). At least 5 points
-/// with normals.
+/// the unit normals mapped onto the Gaussian sphere (through its centre, as a
+/// cylinder's is: well determined on narrow strips too); points projected
+/// along the axis get a least-squares circle (fit_circle_2d). At least 5
+/// points with normals (either sign); refused when all normals are parallel.
 FitResult fit_cylinder(const std::vector<Vec3>& points, const std::vector<Vec3>& normals);
 
 /// The cylinder-or-cone test of 2.4.3.3: distance from the Gaussian sphere's
@@ -70,12 +71,18 @@ struct RansacParams {
 /// RANSAC fits (below) work on the points centred and scaled to unit size;
 /// inlier_tolerance stays an absolute distance. Beyond the thesis each also
 /// scores a model fitted to all the points (a clean region needs no lucky
-/// sample) and, at the end, a model refitted to the consensus set (linear or
-/// from normals; LM is refine_fit_lm's). Candidates are scored on a random
-/// subset of 200 points first. rms and max_abs are over all the points,
-/// inlier_count is the consensus; iterations the samples drawn (fewer than
-/// params.iterations once a better consensus has probability < 1e-6, after
-/// at least 50). Normals need not be unit; their sign does not matter.
+/// sample), and every new best model is refitted to its consensus set while
+/// that improves the consensus (LO-RANSAC; spheres: linear least squares;
+/// cones, tori: from the normals of the inliers whose normal agrees with the
+/// model's within 20 degrees; LM is refine_fit_lm's). Candidates are scored
+/// on a random subset of 200 points first. rms and max_abs are over all the
+/// points, inlier_count is the consensus; iterations the samples drawn
+/// (fewer than params.iterations once a better consensus has probability
+/// < 1e-6, after at least 50). Normals need not be unit; their sign does not
+/// matter. The fits only start refine_fit_lm: with normals from a mesh (off
+/// by a degree or more) a loose inlier_tolerance (a few % of the smallest
+/// radius, a fraction of an edge length) works far better than the tight
+/// tolerance of region growing.
 
 /// Cone by RANSAC, thesis Fig. 2.10: apex from three tangent planes, axis
 /// from the unit vectors apex -> points, opening angle Eq. 2.7; consensus by

@@ -75,7 +75,12 @@ FitResult ransac_cone(const std::vector<Vec3>& points, const std::vector<Vec3>& 
   if (!frame.valid()) return result;
   const std::vector<Vec3> y = frame.apply(points);
   const std::vector<Vec3> n = detail::unit_normals(normals);
-  detail::Ransac ransac(y, params.inlier_tolerance / frame.scale, params, 3);
+  // Local optimisation: the cone of a consensus set from its normals.
+  const auto refit = [&](const SurfacePrimitive& model, const std::vector<int>& inliers, SurfacePrimitive& cone) {
+    const std::vector<int> used = detail::normal_consistent(model, y, n, inliers);
+    return cone_from_normals(detail::gather(y, used), detail::gather(n, used), params.max_cone_half_angle, cone);
+  };
+  detail::Ransac ransac(y, params.inlier_tolerance / frame.scale, params, 3, refit);
 
   SurfacePrimitive cone;
   if (cone_from_normals(y, n, params.max_cone_half_angle, cone)) ransac.offer(cone);
@@ -108,11 +113,6 @@ FitResult ransac_cone(const std::vector<Vec3>& points, const std::vector<Vec3>& 
       ransac.offer(cone);
   }
   if (!ransac.has_best()) return result;
-
-  // Refit on the consensus set (LM is refine_fit_lm's).
-  const std::vector<int> inliers = ransac.inliers();
-  if (cone_from_normals(detail::gather(y, inliers), detail::gather(n, inliers), params.max_cone_half_angle, cone))
-    ransac.offer(cone);
 
   result = evaluate_fit(frame.to_world(ransac.best()), points);
   result.iterations = ransac.iterations();

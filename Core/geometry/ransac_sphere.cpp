@@ -31,7 +31,13 @@ FitResult ransac_sphere(const std::vector<Vec3>& points, const std::vector<Vec3>
   if (!frame.valid()) return result;
   const std::vector<Vec3> y = frame.apply(points);
   const std::vector<Vec3> n = detail::unit_normals(normals);
-  detail::Ransac ransac(y, params.inlier_tolerance / frame.scale, params, 3);
+  // Local optimisation: the linear least-squares sphere of a consensus set.
+  const auto refit = [&y](const SurfacePrimitive&, const std::vector<int>& inliers, SurfacePrimitive& sphere) {
+    const FitResult fit = fit_sphere(detail::gather(y, inliers));
+    sphere = fit.surface;
+    return fit.ok;
+  };
+  detail::Ransac ransac(y, params.inlier_tolerance / frame.scale, params, 3, refit);
 
   // Beyond the thesis: the algebraic sphere of all points competes too, so a
   // clean region needs no lucky sample.
@@ -51,10 +57,6 @@ FitResult ransac_sphere(const std::vector<Vec3>& points, const std::vector<Vec3>
     ransac.offer(sphere);
   }
   if (!ransac.has_best()) return result;
-
-  // Refit on the consensus set (linear least squares; LM is refine_fit_lm's).
-  const FitResult refit = fit_sphere(detail::gather(y, ransac.inliers()));
-  if (refit.ok) ransac.offer(refit.surface);
 
   result = evaluate_fit(frame.to_world(ransac.best()), points);
   result.iterations = ransac.iterations();

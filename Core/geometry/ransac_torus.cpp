@@ -110,7 +110,12 @@ FitResult ransac_torus(const std::vector<Vec3>& points, const std::vector<Vec3>&
   // line meeting the normal lines needs 5 of them (6 Plücker unknowns up to
   // scale).
   const int sample_size = max_dirs != nullptr ? 3 : 5;
-  detail::Ransac ransac(y, params.inlier_tolerance / frame.scale, params, sample_size);
+  // Local optimisation: axis and meridian circle of a consensus set.
+  const auto refit = [&](const SurfacePrimitive& model, const std::vector<int>& inliers, SurfacePrimitive& torus) {
+    const std::vector<int> used = detail::normal_consistent(model, y, n, inliers);
+    return torus_from_normal_lines(y, n, used.data(), static_cast<int>(used.size()), torus);
+  };
+  detail::Ransac ransac(y, params.inlier_tolerance / frame.scale, params, sample_size, refit);
 
   // The axis meeting all normal lines, and the meridian circle of all points:
   // on a clean region (a fillet over a small part of its tube included) this
@@ -130,10 +135,6 @@ FitResult ransac_torus(const std::vector<Vec3>& points, const std::vector<Vec3>&
     }
   }
   if (!ransac.has_best()) return result;
-
-  // Refit on the consensus set (LM is refine_fit_lm's).
-  const std::vector<int> inliers = ransac.inliers();
-  if (torus_from_normal_lines(y, n, inliers.data(), static_cast<int>(inliers.size()), torus)) ransac.offer(torus);
 
   result = evaluate_fit(frame.to_world(ransac.best()), points);
   result.iterations = ransac.iterations();

@@ -133,6 +133,7 @@ struct ConeModel {
   static constexpr int kParams = 6;  // q across the axis (2), axis turn (2), s, phi
   Vec3 q, a, u, v;
   double s, phi;
+  double cos_phi = 1, sin_phi = 0;  // cached: one sincos per step, not per point
   explicit ConeModel(const SurfacePrimitive& c) {
     a = -c.axis.normalized();  // towards the apex
     phi = c.half_angle;
@@ -158,6 +159,8 @@ struct ConeModel {
       s = -s;
     }
     frame_of(a, u, v);
+    cos_phi = std::cos(phi);
+    sin_phi = std::sin(phi);
   }
   bool valid() const {
     return q.allFinite() && a.allFinite() && a.norm() > 0.5 && std::isfinite(s) && phi > 0 && phi < kPi / 2;
@@ -165,11 +168,11 @@ struct ConeModel {
   double residual(const Vec3& y) const {
     const Vec3 w = y - q;
     const double g = w.dot(a);
-    return (w - g * a).norm() * std::cos(phi) + g * std::sin(phi) - s;
+    return (w - g * a).norm() * cos_phi + g * sin_phi - s;
   }
   double row(const Vec3& y, double* j) const {
     const AxisTerms t = axis_terms(y, q, a, u, v);
-    const double c = std::cos(phi), sn = std::sin(phi);
+    const double c = cos_phi, sn = sin_phi;
     j[0] = c * t.df_qu;
     j[1] = c * t.df_qv;
     j[2] = c * t.df_au + sn * t.dg_au;
@@ -243,12 +246,13 @@ struct TorusModel {
   double residual(const Vec3& y) const {
     const Vec3 w = y - q;
     const double g = w.dot(a);
-    return std::hypot((w - g * a).norm() - major, g) - minor;
+    const double f = (w - g * a).norm() - major;
+    return std::sqrt(f * f + g * g) - minor;  // not hypot: slow, and no overflow here
   }
   double row(const Vec3& y, double* j) const {
     const AxisTerms t = axis_terms(y, q, a, u, v);
     const double fr = t.f - major;
-    const double D = std::hypot(fr, t.g);
+    const double D = std::sqrt(fr * fr + t.g * t.g);
     // On the core circle the distance has no derivative; such a point carries
     // no information about the position of the tube.
     const double cf = D > 0 ? fr / D : 0, cg = D > 0 ? t.g / D : 0;
@@ -360,19 +364,22 @@ bool levenberg_marquardt(Model& model, const std::vector<Vec3>& y, const LmParam
 
 template <class Model>
 FitResult refine(const SurfacePrimitive& initial, const std::vector<Vec3>& points, const LmParams& params) {
-  FitResult result = evaluate_fit(initial, points);
-  result.ok = false;
-  if (static_cast<int>(points.size()) < Model::kParams) return result;
+  const auto refused = [&] {
+    FitResult result = evaluate_fit(initial, points);
+    result.ok = false;
+    return result;
+  };
+  if (static_cast<int>(points.size()) < Model::kParams) return refused();
   const detail::Normalisation frame(points);
-  if (!frame.valid()) return result;
+  if (!frame.valid()) return refused();
   const std::vector<Vec3> y = frame.apply(points);
   Model model(frame.to_unit(initial));
-  if (!model.valid()) return result;
+  if (!model.valid()) return refused();
   int iterations = 0;
   double initial_cost = 0, final_cost = 0;
-  if (!levenberg_marquardt(model, y, params, iterations, initial_cost, final_cost)) return result;
+  if (!levenberg_marquardt(model, y, params, iterations, initial_cost, final_cost)) return refused();
   FitResult refined = evaluate_fit(frame.to_world(model.surface()), points);
-  if (!refined.ok || !detail::finite_surface(refined.surface)) return result;
+  if (!refined.ok || !detail::finite_surface(refined.surface)) return refused();
   refined.iterations = iterations;
   return refined;
 }

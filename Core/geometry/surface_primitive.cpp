@@ -29,11 +29,6 @@ AxisFrame axis_frame(const Vec3& origin, const Vec3& axis, const Vec3& p) {
   return f;
 }
 
-// Cone: is p in front of the apex, i.e. does its closest point on the ray of
-// the meridian half-plane lie beyond the apex? (Else the apex is closest.)
-double cone_ray_parameter(const SurfacePrimitive& s, const AxisFrame& f) {
-  return f.rho * std::sin(s.half_angle) + f.h * std::cos(s.half_angle);
-}
 
 // Torus: the point of the core circle nearest to p and the unit direction from
 // it to p (outward in the meridian plane when p is on the core circle).
@@ -67,10 +62,12 @@ double signed_distance(const SurfacePrimitive& s, const Vec3& p) {
       return axis_frame(s.point, s.axis, p).rho - s.radius;
     case SurfaceType::Cone: {
       // In the meridian half-plane (rho, h) the nappe is the ray from the apex
-      // along (sin a, cos a); its outward normal is (cos a, -sin a).
+      // along (sin a, cos a); its outward normal is (cos a, -sin a). A point
+      // whose projection on the ray falls behind the apex is closest to it.
       const AxisFrame f = axis_frame(s.point, s.axis, p);
-      if (cone_ray_parameter(s, f) < 0) return (p - s.point).norm();  // behind the apex: outside
-      return f.rho * std::cos(s.half_angle) - f.h * std::sin(s.half_angle);
+      const double sn = std::sin(s.half_angle), c = std::cos(s.half_angle);
+      if (f.rho * sn + f.h * c < 0) return (p - s.point).norm();  // behind the apex: outside
+      return f.rho * c - f.h * sn;
     }
     case SurfaceType::Sphere:
       return (p - s.point).norm() - s.radius;
@@ -78,7 +75,8 @@ double signed_distance(const SurfacePrimitive& s, const Vec3& p) {
       // Distance to the core circle minus r. Exact for a ring torus (R > r);
       // for R <= r it stays finite and continuous (a distance bound).
       const AxisFrame f = axis_frame(s.point, s.axis, p);
-      return std::hypot(f.rho - s.radius, f.h) - s.minor_radius;
+      const double dr = f.rho - s.radius;
+      return std::sqrt(dr * dr + f.h * f.h) - s.minor_radius;
     }
     case SurfaceType::Unknown: break;
   }
@@ -95,9 +93,10 @@ Vec3 closest_point(const SurfacePrimitive& s, const Vec3& p) {
     }
     case SurfaceType::Cone: {
       const AxisFrame f = axis_frame(s.point, s.axis, p);
-      const double t = cone_ray_parameter(s, f);
+      const double sn = std::sin(s.half_angle), c = std::cos(s.half_angle);
+      const double t = f.rho * sn + f.h * c;  // along the ray from the apex
       if (t < 0) return s.point;
-      return s.point + t * (std::sin(s.half_angle) * f.e + std::cos(s.half_angle) * s.axis);
+      return s.point + t * (sn * f.e + c * s.axis);
     }
     case SurfaceType::Sphere: {
       const Vec3 d = p - s.point;
@@ -122,8 +121,9 @@ Vec3 surface_normal(const SurfacePrimitive& s, const Vec3& p) {
       return axis_frame(s.point, s.axis, p).e;
     case SurfaceType::Cone: {
       const AxisFrame f = axis_frame(s.point, s.axis, p);
-      const Vec3 side = std::cos(s.half_angle) * f.e - std::sin(s.half_angle) * s.axis;
-      if (cone_ray_parameter(s, f) >= 0) return side;
+      const double sn = std::sin(s.half_angle), c = std::cos(s.half_angle);
+      const Vec3 side = c * f.e - sn * s.axis;
+      if (f.rho * sn + f.h * c >= 0) return side;
       // Behind the apex the closest point is the apex itself: the direction
       // to p keeps p = closest + d * normal.
       const Vec3 d = p - s.point;

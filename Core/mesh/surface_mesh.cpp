@@ -46,7 +46,7 @@ Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, 
   out.normals.resize(nf);
   out.areas.resize(nf);
   std::size_t degenerate = 0;
-#pragma omp parallel for schedule(static) reduction(+ : degenerate)
+#pragma omp parallel for schedule(static) reduction(+ : degenerate) if(nf >= kParallelMinItems)
   for (index_t f = 0; f < nf; ++f) {
     const Vec3& a = p[tris[f][0]];
     const Vec3 e1 = p[tris[f][1]] - a, e2 = p[tris[f][2]] - a;
@@ -80,7 +80,7 @@ Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, 
   std::size_t open = 0, nonmanifold = 0, misoriented = 0;
   double length_sum = 0;
   std::size_t edge_count = 0;
-#pragma omp parallel for schedule(static) reduction(+ : open, nonmanifold, misoriented, length_sum, edge_count)
+#pragma omp parallel for schedule(static) reduction(+ : open, nonmanifold, misoriented, length_sum, edge_count) if(nf >= kParallelMinItems)
   for (index_t f = 0; f < nf; ++f) {
     for (int k = 0; k < 3; ++k) {
       const index_t a = tris[f][k], b = tris[f][(k + 1) % 3];

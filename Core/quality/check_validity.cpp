@@ -158,7 +158,7 @@ void check_orientation(const std::vector<Vec3>& points, const std::vector<Tet>& 
                        ValidityReport& report, Flags& flags) {
   const std::int64_t num_tets = static_cast<std::int64_t>(tets.size());
   std::size_t inverted = 0, degenerate = 0;
-#pragma omp parallel for schedule(static) reduction(+ : inverted, degenerate)
+#pragma omp parallel for schedule(static) reduction(+ : inverted, degenerate) if(num_tets >= kParallelMinItems)
   for (std::int64_t t = 0; t < num_tets; ++t) {
     if (!flags.usable[t] || flags.bad_tet[t]) continue;  // bad ids or a non-finite point
     const Tet& tet = tets[t];
@@ -205,7 +205,7 @@ void match_faces(std::size_t num_points, const std::vector<Tet>& tets, ValidityR
       }
     }
   }
-#pragma omp parallel for schedule(dynamic, 4096)
+#pragma omp parallel for schedule(dynamic, 4096) if(num_points >= static_cast<std::size_t>(kParallelMinItems))
   for (std::int64_t v = 0; v < static_cast<std::int64_t>(num_points); ++v)
     std::sort(faces.begin() + bucket_start[v], faces.begin() + bucket_start[v + 1]);
 
@@ -323,7 +323,7 @@ void check_vertices(const std::vector<TetLinks>& links, const std::vector<std::i
 
   std::vector<std::uint8_t> nonmanifold(num_points, 0);
   std::size_t count = 0;
-#pragma omp parallel reduction(+ : count)
+#pragma omp parallel reduction(+ : count) if(num_points >= static_cast<std::size_t>(kParallelMinItems))
   {
     DisjointSets components;  // over positions in one ball
     std::vector<index_t> seen(num_points, kInvalidIndex);  // last point whose link saw it

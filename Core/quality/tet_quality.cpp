@@ -189,7 +189,7 @@ void compute_tet_quality(const std::vector<Vec3>& points, const std::vector<Tet>
                          double* signed_volume) {
   const bool want_dihedral = min_dihedral || max_dihedral;
   const std::int64_t count = static_cast<std::int64_t>(tets.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if(count >= kParallelMinItems)
   for (std::int64_t t = 0; t < count; ++t) {
     const Tet& tet = tets[t];
     const TetEdges e(points[tet[0]], points[tet[1]], points[tet[2]], points[tet[3]]);

@@ -13,7 +13,7 @@ SharpEdges detect_sharp_edges(const SurfaceMesh& surface, double angle) {
   out.edge.assign(static_cast<std::size_t>(nf) * 3, 0);
   out.vertex_degree.assign(surface.points.size(), 0);
 
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if(nf >= kParallelMinItems)
   for (index_t f = 0; f < nf; ++f) {
     const Vec3& n = surface.normals[f];
     const bool degenerate = n.squaredNorm() == 0;

@@ -29,7 +29,7 @@ std::vector<std::vector<index_t>> direction_seed_regions(const State& st, double
   const double cos_angle = std::cos(angle);
   const double max_variance = 2.0 * (1.0 - cos_angle);
   std::vector<char> seed(static_cast<std::size_t>(s.num_triangles()), 0);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if(s.num_triangles() >= kParallelMinItems)
   for (index_t f = 0; f < s.num_triangles(); ++f) {
     if (st.triangle_region[f] >= 0 || !curved(st, f)) continue;
     Vec3 dirs[4];

@@ -16,7 +16,7 @@ void extract_planar_regions(State& st) {
   const double max_variance = 2.0 * (1.0 - std::cos(degrees_to_radians(st.params.plane_angle_tolerance_deg)));
   std::vector<char> planar_vertex(static_cast<std::size_t>(s.num_points()), 0);
   std::vector<Vec3> ring;
-#pragma omp parallel for schedule(static) private(ring)
+#pragma omp parallel for schedule(static) private(ring) if(s.num_points() >= kParallelMinItems)
   for (index_t v = 0; v < s.num_points(); ++v) {
     ring.clear();
     for (index_t i = s.vertex_offsets[v]; i < s.vertex_offsets[v + 1]; ++i) {

@@ -9,9 +9,12 @@
 namespace femorph {
 namespace {
 
-// Smallest / largest pivot of a least-squares system (lengths normalised)
-// below which the neighbourhood does not determine the unknowns.
-constexpr double kMinPivotRatio = 1e-9;
+// Smallest / largest pivot of a least-squares system (lengths normalised by
+// the local edge length) below which the neighbourhood does not determine
+// the unknowns: a smaller one amplifies the data's errors a hundredfold. (On
+// fandisk, a valence-4 vertex whose neighbours form a symmetric cross gets
+// curvatures of 1e4 / edge length from the position rows otherwise.)
+constexpr double kMinPivotRatio = 1e-4;
 // A refinement that tilts the normal tensor's e1 by more than this slope
 // (about 27 deg) is not trusted: the neighbourhood is not a graph over the
 // tangent plane.
@@ -145,7 +148,7 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   std::vector<char> evaluated(np, 0);
 
   // Steps 1-2: normal tensor, e1, refined normal.
-#pragma omp parallel
+#pragma omp parallel if(np >= kParallelMinItems)
   {
     std::vector<index_t> ring;
     ring.reserve(64);
@@ -201,7 +204,7 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   //   r = S g + grad C(g)                   (unless j is on a sharp edge)
   //   -z / |g| = (g^T S g / 2 + C(g)) / |g|  (divided by |g| to weigh like r)
   // Lengths scaled by the 1-ring's mean edge length.
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if(np >= kParallelMinItems)
   for (index_t i = 0; i < np; ++i) {
     if (!evaluated[i]) continue;
     const Vec3& n = c.vertex_normal[i];
@@ -273,7 +276,7 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   c.triangle_k_min.assign(nf, 0.0);
   c.triangle_dir_max.assign(nf, Vec3::Zero());
   c.triangle_dir_min.assign(nf, Vec3::Zero());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if(nf >= kParallelMinItems)
   for (index_t f = 0; f < nf; ++f) {
     int count = 0;
     double k_max = 0, k_min = 0;

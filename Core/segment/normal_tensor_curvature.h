@@ -17,7 +17,10 @@ struct Curvature {
   // cylinder k_max = +-1/R around it and k_min = 0 along the generatrix
   // (dir_min is the axis direction). Signs: > 0 where the surface bends away
   // from its outward normal (convex: a boss, a ball), < 0 concave (a hole).
-  std::vector<Vec3> vertex_normal;     // e1 of the normal tensor, oriented outward
+  /// Unit outward normal: e1 of the normal tensor, refined by a height fit
+  /// (see the .cpp); on vertices not evaluated, the area-weighted mean of the
+  /// triangle normals around it.
+  std::vector<Vec3> vertex_normal;
   std::vector<double> vertex_k_max;    // |k_max| >= |k_min|
   std::vector<double> vertex_k_min;
   std::vector<Vec3> vertex_dir_max;    // unit principal direction of k_max
