@@ -5,6 +5,8 @@ Run with Debian's interpreter (python3-gmsh, python3-numpy and python3-paraview
 are Debian packages that a pyenv python cannot see):
 
     /usr/bin/python3 Data/generate_parts.py [--out-dir Data] [--only NAME]
+    /usr/bin/python3 Data/generate_parts.py --fine boss_block --out-dir /tmp/parts \
+        [--target-boundary-triangles 200000]
 
 For every part it writes <name>.vtu (tets, CAD face labels per tet face, CAD
 entity of every node) and <name>.json (construction dimensions, mesh options,
@@ -15,6 +17,11 @@ integration tests of the segmentation (thesis 2.4) and the deformation
 
 The output is deterministic: one thread, fixed mesh options, nodes numbered
 in Gmsh's tag order. Data/README.md describes the file formats.
+
+--fine writes <NAME>_fine.vtu/.json, a version of a part with about the
+given number of boundary triangles (mesh sizes scaled; a coarser inside),
+for benchmarks; it is not kept in Data/. Its surface mesh is deterministic,
+its tets (Gmsh's HXT algorithm) vary slightly between runs.
 """
 
 import argparse
@@ -22,6 +29,7 @@ import json
 import math
 import os
 import sys
+import time
 
 import numpy as np
 import gmsh
@@ -139,6 +147,11 @@ def distance_to_surface(surf, x):
     if kind == "torus":
         h, rho = axial_split(x, surf["center"], surf["axis_direction"])
         return np.abs(np.hypot(rho - surf["major_radius"], h) - surf["minor_radius"])
+    if kind == "unknown" and surf.get("surface") == "bspline":
+        # Vertical distance to the graph z = f(x, y): an upper bound of the
+        # distance (infinite outside the graph's rectangle).
+        dz = np.abs(x[:, 2] - bspline_graph_height(surf, x))
+        return np.where(np.isnan(dz), np.inf, dz)
     raise ValueError(kind)
 
 
@@ -354,10 +367,350 @@ def build_cone_sphere_torus():
             d, surfaces, mesh)
 
 
+def build_fillet_junctions():
+    """Fillets that meet tangentially (G1), after thesis Figs. 2.47-2.48:
+    cylinder-torus-cylinder corners, cone-torus, sphere-torus and
+    cylinder-cylinder-sphere junctions."""
+    occ = gmsh.model.occ
+    d = {
+        "block_size_x": 120.0, "block_size_y": 80.0, "block_size_z": 25.0,
+        "block_origin": [0.0, 0.0, 0.0],
+        "vertical_edge_fillet_radius": 10.0, "top_edge_fillet_radius": 4.0,
+        "block_note": ("the four vertical edges are filleted first, then the whole top face "
+                       "boundary (4 lines, 4 arcs); each top corner becomes a torus "
+                       "(major = vertical - top fillet radius) tangent to three cylinders "
+                       "and the top plane; the bottom edges stay sharp"),
+        "cone_boss_center_x": 30.0, "cone_boss_center_y": 40.0,
+        "cone_boss_base_radius": 15.0, "cone_boss_top_radius": 9.0, "cone_boss_height": 12.0,
+        "cone_boss_base_fillet_radius": 3.0, "cone_boss_top_fillet_radius": 2.0,
+        "pin_center_x": 65.0, "pin_center_y": 40.0, "pin_radius": 7.0,
+        "pin_cylinder_height": 14.0, "pin_top_fillet_radius": 2.5, "pin_cap_sphere_radius": 12.0,
+        "pin_base_fillet_radius": 2.0,
+        "pin_note": ("cylinder, then a convex torus fillet tangent to it and to a spherical "
+                     "cap (built exactly from an OCC torus, cylinder and sphere, since OCC's "
+                     "own cylinder-sphere fillet is a B-spline); base fillet by OCC"),
+        "pocket_min_x": 82.0, "pocket_max_x": 110.0, "pocket_min_y": 18.0, "pocket_max_y": 62.0,
+        "pocket_depth": 10.0, "pocket_fillet_radius": 5.0,
+        "pocket_note": ("vertical and floor edges filleted with one radius: concave "
+                        "cylinder-cylinder-sphere corners; the rim edges stay sharp"),
+    }
+    L, W, H = d["block_size_x"], d["block_size_y"], d["block_size_z"]
+    rv, rt = d["vertical_edge_fillet_radius"], d["top_edge_fillet_radius"]
+    bx, by = d["cone_boss_center_x"], d["cone_boss_center_y"]
+    rb, rc, hc = d["cone_boss_base_radius"], d["cone_boss_top_radius"], d["cone_boss_height"]
+    fb, ft = d["cone_boss_base_fillet_radius"], d["cone_boss_top_fillet_radius"]
+    px, py, rp, hp = d["pin_center_x"], d["pin_center_y"], d["pin_radius"], d["pin_cylinder_height"]
+    rpt, rs, rpb = d["pin_top_fillet_radius"], d["pin_cap_sphere_radius"], d["pin_base_fillet_radius"]
+    x0, x1, y0, y1 = d["pocket_min_x"], d["pocket_max_x"], d["pocket_min_y"], d["pocket_max_y"]
+    dp, rk = d["pocket_depth"], d["pocket_fillet_radius"]
+
+    # Block: vertical edges, then the whole top boundary loop.
+    block = occ.addBox(0, 0, 0, L, W, H)
+    occ.synchronize()
+    vertical = []
+    for cx in (0.0, L):
+        for cy in (0.0, W):
+            vertical += entities_in_box(1, [cx, cy, 0], [cx, cy, H])
+    assert len(vertical) == 4, vertical
+    occ.fillet([block], vertical, [rv], True)
+    occ.synchronize()
+    top_loop = entities_in_box(1, [0, 0, H], [L, W, H])
+    assert len(top_loop) == 8, top_loop
+    occ.fillet([single_volume()], top_loop, [rt], True)
+    occ.synchronize()
+
+    # Cone boss (frustum from radius rb at the block top to rc), both circles filleted.
+    tan_a = (rb - rc) / hc
+    solid = single_volume()
+    frustum = occ.addCone(bx, by, H - 1.0, 0, 0, hc + 1.0, rb + tan_a, rc)
+    occ.fuse([(3, solid)], [(3, frustum)])
+    occ.synchronize()
+    occ.fillet([single_volume()], [circle_curve([bx, by, H], rb)], [fb], True)
+    occ.synchronize()
+    occ.fillet([single_volume()], [circle_curve([bx, by, H + hc], rc)], [ft], True)
+    occ.synchronize()
+
+    # Pin: cylinder (radius rp, up to z1), torus fillet (tube radius rpt,
+    # centre circle of radius rp - rpt at z1) and a sphere (radius rs) tangent
+    # to the tube from outside: |tube centre - sphere centre| = rs - rpt.
+    z1 = H + hp
+    zs = z1 - math.sqrt((rs - rpt) ** 2 - (rp - rpt) ** 2)
+    # The torus-sphere tangency circle: on the ray from the sphere centre
+    # through the tube centre.
+    zt = zs + rs * (z1 - zs) / (rs - rpt)
+    d["pin_cap_sphere_center_z"] = zs
+    d["pin_torus_sphere_tangency_z"] = zt
+    d["pin_torus_sphere_tangency_radius"] = rs * (rp - rpt) / (rs - rpt)
+    solid = single_volume()
+    shank = occ.addCylinder(px, py, H - 1.0, 0, 0, z1 - (H - 1.0), rp)
+    ring = occ.addTorus(px, py, z1, rp - rpt, rpt)
+    slab = occ.addBox(px - rp - 1, py - rp - 1, z1, 2 * rp + 2, 2 * rp + 2, zt - z1)
+    ring_slab, _ = occ.intersect([(3, ring)], [(3, slab)])
+    core = occ.addCylinder(px, py, z1, 0, 0, zt - z1, rp - rpt)
+    middle, _ = occ.fuse(ring_slab, [(3, core)])
+    ball = occ.addSphere(px, py, zs, rs)
+    upper = occ.addBox(px - rs, py - rs, zt, 2 * rs, 2 * rs, rs)
+    cap, _ = occ.intersect([(3, ball)], [(3, upper)])
+    occ.fuse([(3, solid), (3, shank)], middle + cap)
+    occ.synchronize()
+    occ.fillet([single_volume()], [circle_curve([px, py, H], rp)], [rpb], True)
+    occ.synchronize()
+
+    # Pocket: a box tool with its vertical and bottom edges filleted, cut out.
+    solid = single_volume()
+    tool_top = H + 5.0
+    tool = occ.addBox(x0, y0, H - dp, x1 - x0, y1 - y0, tool_top - (H - dp))
+    occ.synchronize()
+    tool_edges = []
+    for t in entities_in_box(1, [x0, y0, H - dp], [x1, y1, tool_top]):
+        lo_x, lo_y, lo_z, hi_x, hi_y, hi_z = occ.getBoundingBox(1, t)
+        if hi_z - lo_z > 1.0 or hi_z < H - dp + 1e-6:
+            tool_edges.append(t)
+    assert len(tool_edges) == 8, tool_edges
+    occ.fillet([tool], tool_edges, [rk], True)
+    tools = [(3, t) for t in entities_in_box(3, [x0, y0, H - dp], [x1, y1, tool_top])]
+    assert len(tools) == 1, tools
+    occ.cut([(3, solid)], tools)
+
+    z = [0.0, 0.0, 1.0]
+    surfaces = [
+        plane("block bottom", [0, 0, 0], [0, 0, -1]),
+        plane("block top", [0, 0, H], [0, 0, 1]),
+        plane("block side x=0", [0, 0, 0], [-1, 0, 0]),
+        plane("block side x=L", [L, 0, 0], [1, 0, 0]),
+        plane("block side y=0", [0, 0, 0], [0, -1, 0]),
+        plane("block side y=W", [0, W, 0], [0, 1, 0]),
+    ]
+    for cx, sx in ((rv, "x=0"), (L - rv, "x=L")):
+        for cy, sy in ((rv, "y=0"), (W - rv, "y=W")):
+            surfaces.append(cylinder(f"vertical edge fillet at {sx}, {sy}", [cx, cy, 0], z,
+                                     rv, "convex"))
+            surfaces.append(torus(f"top corner fillet at {sx}, {sy}", [cx, cy, H - rt], z,
+                                  rv - rt, rt, "convex"))
+    for cy, s in ((rt, "y=0"), (W - rt, "y=W")):
+        surfaces.append(cylinder(f"top edge fillet along x at {s}", [0, cy, H - rt],
+                                 [1, 0, 0], rt, "convex"))
+    for cx, s in ((rt, "x=0"), (L - rt, "x=L")):
+        surfaces.append(cylinder(f"top edge fillet along y at {s}", [cx, 0, H - rt],
+                                 [0, 1, 0], rt, "convex"))
+
+    # Cone boss: generating line rho(z) = rb - (z - H) tan(a); outward
+    # meridian normal (cos a, sin a). A fillet tube of radius f tangent to the
+    # block top (concave, centre at height H + f outside the cone) or to the
+    # boss top (convex, centre at height H + hc - f inside the cone).
+    alpha = math.atan(tan_a)
+    cos_a = math.cos(alpha)
+    half_angle = math.degrees(alpha)
+    d["cone_boss_half_angle_deg"] = half_angle
+    apex_z = H + rb / tan_a
+    base_major = rb - fb * tan_a + fb / cos_a
+    top_major = rc + ft * tan_a - ft / cos_a
+    d["cone_boss_base_fillet_major_radius"] = base_major
+    d["cone_boss_top_fillet_major_radius"] = top_major
+    surfaces += [
+        cone("cone boss side", [bx, by, apex_z], [0, 0, -1], half_angle, "convex"),
+        torus("cone boss base fillet", [bx, by, H + fb], z, base_major, fb, "concave"),
+        torus("cone boss top fillet", [bx, by, H + hc - ft], z, top_major, ft, "convex"),
+        plane("cone boss top", [bx, by, H + hc], [0, 0, 1]),
+        cylinder("pin side", [px, py, H], z, rp, "convex"),
+        torus("pin base fillet", [px, py, H + rpb], z, rp + rpb, rpb, "concave"),
+        torus("pin top fillet", [px, py, z1], z, rp - rpt, rpt, "convex"),
+        sphere("pin spherical cap", [px, py, zs], rs, "convex"),
+        plane("pocket floor", [x0, y0, H - dp], [0, 0, 1]),
+        plane("pocket wall x=min", [x0, y0, H], [1, 0, 0]),
+        plane("pocket wall x=max", [x1, y0, H], [-1, 0, 0]),
+        plane("pocket wall y=min", [x0, y0, H], [0, 1, 0]),
+        plane("pocket wall y=max", [x0, y1, H], [0, -1, 0]),
+    ]
+    zf = H - dp + rk
+    for cx, sx in ((x0 + rk, "x=min"), (x1 - rk, "x=max")):
+        for cy, sy in ((y0 + rk, "y=min"), (y1 - rk, "y=max")):
+            surfaces.append(cylinder(f"pocket vertical fillet at {sx}, {sy}", [cx, cy, H], z,
+                                     rk, "concave"))
+            surfaces.append(sphere(f"pocket corner at {sx}, {sy}", [cx, cy, zf], rk, "concave"))
+    for cy, s in ((y0 + rk, "y=min"), (y1 - rk, "y=max")):
+        surfaces.append(cylinder(f"pocket floor fillet along x at {s}", [x0, cy, zf],
+                                 [1, 0, 0], rk, "concave"))
+    for cx, s in ((x0 + rk, "x=min"), (x1 - rk, "x=max")):
+        surfaces.append(cylinder(f"pocket floor fillet along y at {s}", [cx, y0, zf],
+                                 [0, 1, 0], rk, "concave"))
+    mesh = {"Mesh.MeshSizeMin": 0.7, "Mesh.MeshSizeMax": 10.0,
+            "Mesh.MeshSizeFromCurvature": 10,
+            "refine": {"gmsh_types": ["Torus", "Sphere", "Cone"], "size_near": 1.4,
+                       "size_far": 10.0, "dist_near": 0.5, "dist_far": 5.0}}
+    return ("block with G1 fillet junctions: torus corners between cylinders, cone-torus, "
+            "sphere-torus, and a pocket with cylinder-cylinder-sphere corners", d, surfaces, mesh)
+
+
+# Clamped uniform B-spline helpers (the freeform face of bspline_face).
+
+def clamped_knots(n_control, degree):
+    """Distinct knots and multiplicities of a clamped uniform knot vector on [0, 1]."""
+    inner = n_control - degree - 1
+    knots = [k / (inner + 1) for k in range(inner + 2)]
+    mult = [degree + 1] + [1] * inner + [degree + 1]
+    return knots, mult
+
+
+def full_knot_vector(knots, mult):
+    return np.repeat(np.asarray(knots, dtype=float), mult)
+
+
+def greville(knots, mult, degree):
+    t = full_knot_vector(knots, mult)
+    n = len(t) - degree - 1
+    return np.array([t[i + 1:i + degree + 1].mean() for i in range(n)])
+
+
+def bspline_basis(knots, mult, degree, s):
+    """Values of all B-spline basis functions at parameters s (m,) -> (m, n)."""
+    t = full_knot_vector(knots, mult)
+    n = len(t) - degree - 1
+    s = np.clip(np.asarray(s, dtype=float), t[0], t[-1])
+    # Degree 0 on half-open spans; the last span is closed at the end.
+    b = np.zeros((len(s), len(t) - 1))
+    for i in range(len(t) - 1):
+        if t[i + 1] > t[i]:
+            b[:, i] = (s >= t[i]) & (s < t[i + 1])
+    last = max(i for i in range(len(t) - 1) if t[i + 1] > t[i])
+    b[s >= t[-1], last] = 1.0
+    for p in range(1, degree + 1):
+        nb = np.zeros((len(s), len(t) - 1 - p))
+        for i in range(len(t) - 1 - p):
+            if t[i + p] > t[i]:
+                nb[:, i] += (s - t[i]) / (t[i + p] - t[i]) * b[:, i]
+            if t[i + p + 1] > t[i + 1]:
+                nb[:, i] += (t[i + p + 1] - s) / (t[i + p + 1] - t[i + 1]) * b[:, i + 1]
+        b = nb
+    assert b.shape[1] == n
+    return b
+
+
+def bspline_graph(label, x_range, y_range, degree, z_control, convexity="mixed"):
+    """A B-spline surface that is exactly the graph z = f(x, y) over a
+    rectangle: control point (i, j) sits at the Greville abscissae of the
+    clamped uniform knots, so x(u) and y(v) are linear (B-splines reproduce
+    linear functions) and only z is free."""
+    z_control = np.asarray(z_control, dtype=float)
+    nu, nv = z_control.shape
+    ku, mu = clamped_knots(nu, degree)
+    kv, mv = clamped_knots(nv, degree)
+    gu, gv = greville(ku, mu, degree), greville(kv, mv, degree)
+    xs = x_range[0] + (x_range[1] - x_range[0]) * gu
+    ys = y_range[0] + (y_range[1] - y_range[0]) * gv
+    control = [[[float(xs[i]), float(ys[j]), float(z_control[i, j])] for j in range(nv)]
+               for i in range(nu)]
+    return {"label": label, "primitive": "unknown", "convexity": convexity,
+            "surface": "bspline", "degree_u": degree, "degree_v": degree,
+            "knots_u": ku, "multiplicities_u": mu, "knots_v": kv, "multiplicities_v": mv,
+            "control_points": control,
+            "graph": {"x_range": list(map(float, x_range)), "y_range": list(map(float, y_range)),
+                      "note": ("z = f(x, y) with u = (x - x0) / (x1 - x0), "
+                               "v = (y - y0) / (y1 - y0); control_points[i][j] is the "
+                               "control point of basis functions N_i(u) N_j(v), "
+                               "non-rational")}}
+
+
+def bspline_graph_height(surf, x):
+    """f(x, y) of a bspline_graph surface at points x (n x 3); NaN outside."""
+    g = surf["graph"]
+    u = (x[:, 0] - g["x_range"][0]) / (g["x_range"][1] - g["x_range"][0])
+    v = (x[:, 1] - g["y_range"][0]) / (g["y_range"][1] - g["y_range"][0])
+    cz = np.asarray(surf["control_points"], dtype=float)[:, :, 2]
+    bu = bspline_basis(surf["knots_u"], surf["multiplicities_u"], surf["degree_u"], u)
+    bv = bspline_basis(surf["knots_v"], surf["multiplicities_v"], surf["degree_v"], v)
+    f = np.einsum("mi,ij,mj->m", bu, cz, bv)
+    inside = (u >= -1e-12) & (u <= 1 + 1e-12) & (v >= -1e-12) & (v <= 1 + 1e-12)
+    return np.where(inside, f, np.nan)
+
+
+def build_bspline_face():
+    """A block whose top is a freeform B-spline face, with planes and cylinders
+    around it (a through hole, a boss, rounded vertical edges)."""
+    occ = gmsh.model.occ
+    d = {
+        "block_size_x": 80.0, "block_size_y": 60.0, "block_origin": [0.0, 0.0, 0.0],
+        "vertical_edge_fillet_radius": 8.0,
+        "top_note": ("the top is a bicubic B-spline graph z = f(x, y) over x in [-10, 90], "
+                     "y in [-10, 70] (control net 7 x 6, clamped uniform knots), "
+                     "trimmed by the block sides; its exact definition is in the face entry"),
+        "hole_center_x": 20.0, "hole_center_y": 20.0, "hole_radius": 5.0,
+        "boss_center_x": 58.0, "boss_center_y": 38.0, "boss_radius": 7.0, "boss_top_z": 38.0,
+        "boss_note": "a cylinder standing out of the freeform top (G0 edge with it)",
+    }
+    L, W = d["block_size_x"], d["block_size_y"]
+    degree, nu, nv = 3, 7, 6
+    x_range, y_range = (-10.0, L + 10.0), (-10.0, W + 10.0)
+    ku, mu = clamped_knots(nu, degree)
+    kv, mv = clamped_knots(nv, degree)
+    gu, gv = greville(ku, mu, degree), greville(kv, mv, degree)
+    # Heights: a tilted saddle with a bump, rounded to 1e-3 mm (the rounded
+    # values are the definition). Curvature varies in sign and size.
+    zc = np.array([[round(24.0 + 5.0 * math.sin(2.6 * u) * math.cos(3.3 * v) + 4.0 * u * u
+                          - 3.0 * v + 2.5 * math.exp(-30.0 * ((u - 0.35) ** 2 + (v - 0.7) ** 2)), 3)
+                    for v in gv] for u in gu])
+    top = bspline_graph("freeform top", x_range, y_range, degree, zc)
+    d["top_height_min_control"] = float(zc.min())
+    d["top_height_max_control"] = float(zc.max())
+
+    ctrl = top["control_points"]
+    tags = [occ.addPoint(*ctrl[i][j]) for j in range(nv) for i in range(nu)]  # u fastest
+    patch = occ.addBSplineSurface(tags, nu, degreeU=degree, degreeV=degree,
+                                  knotsU=ku, knotsV=kv, multiplicitiesU=mu, multiplicitiesV=mv)
+    occ.remove([(0, t) for t in tags])  # the control points are not part of the solid
+    depth = 100.0
+    below = [t for dim, t in occ.extrude([(2, patch)], 0, 0, -depth) if dim == 3]
+    assert len(below) == 1, below
+    box_h = 80.0
+    box = occ.addBox(0, 0, 0, L, W, box_h)
+    occ.synchronize()
+    vertical = []
+    for cx in (0.0, L):
+        for cy in (0.0, W):
+            vertical += entities_in_box(1, [cx, cy, 0], [cx, cy, box_h])
+    assert len(vertical) == 4, vertical
+    occ.fillet([box], vertical, [d["vertical_edge_fillet_radius"]], True)
+    box = entities_in_box(3, [0, 0, 0], [L, W, box_h])
+    occ.intersect([(3, below[0])], [(3, t) for t in box])
+    solid = single_volume()
+    bxc, byc, rbs, ztop = (d["boss_center_x"], d["boss_center_y"], d["boss_radius"],
+                           d["boss_top_z"])
+    boss = occ.addCylinder(bxc, byc, 5.0, 0, 0, ztop - 5.0, rbs)
+    occ.fuse([(3, solid)], [(3, boss)])
+    solid = single_volume()
+    hx, hy, rh = d["hole_center_x"], d["hole_center_y"], d["hole_radius"]
+    hole = occ.addCylinder(hx, hy, -1.0, 0, 0, box_h, rh)
+    occ.cut([(3, solid)], [(3, hole)])
+
+    z = [0.0, 0.0, 1.0]
+    rv = d["vertical_edge_fillet_radius"]
+    surfaces = [
+        plane("block bottom", [0, 0, 0], [0, 0, -1]),
+        plane("block side x=0", [0, 0, 0], [-1, 0, 0]),
+        plane("block side x=L", [L, 0, 0], [1, 0, 0]),
+        plane("block side y=0", [0, 0, 0], [0, -1, 0]),
+        plane("block side y=W", [0, W, 0], [0, 1, 0]),
+        plane("boss top", [bxc, byc, ztop], [0, 0, 1]),
+        cylinder("boss side", [bxc, byc, 0], z, rbs, "convex"),
+        cylinder("through hole", [hx, hy, 0], z, rh, "concave"),
+        top,
+    ]
+    for cx, sx in ((rv, "x=0"), (L - rv, "x=L")):
+        for cy, sy in ((rv, "y=0"), (W - rv, "y=W")):
+            surfaces.append(cylinder(f"vertical edge fillet at {sx}, {sy}", [cx, cy, 0], z,
+                                     rv, "convex"))
+    mesh = {"Mesh.MeshSizeMin": 0.8, "Mesh.MeshSizeMax": 4.0,
+            "Mesh.MeshSizeFromCurvature": 16}
+    return ("block with a freeform B-spline top, a through hole, a boss and rounded vertical "
+            "edges", d, surfaces, mesh)
+
+
 PARTS = {
     "boss_block": build_boss_block,
     "filleted_box": build_filleted_box,
     "cone_sphere_torus": build_cone_sphere_torus,
+    "fillet_junctions": build_fillet_junctions,
+    "bspline_face": build_bspline_face,
 }
 
 
@@ -389,8 +742,15 @@ def extract_mesh():
     pos = np.searchsorted(sorted_tags, used)
     assert np.all(sorted_tags[pos] == used), "tet uses an unknown node"
     points = all_coords[order[pos]]
-    index_of = {int(t): i for i, t in enumerate(used)}
-    remap = np.vectorize(index_of.__getitem__, otypes=[np.int64])
+
+    def remap(tags):
+        """Gmsh node tags -> 0-based indices into `used` (sorted)."""
+        tags = np.asarray(tags, dtype=np.int64)
+        idx = np.searchsorted(used, tags)
+        assert np.all(idx < len(used)) and np.all(used[np.minimum(idx, len(used) - 1)] == tags), \
+            "element uses a node no tet uses"
+        return idx.astype(np.int64)
+
     tets = remap(tet_tags)
 
     # Gmsh's reference tet is (0,0,0),(1,0,0),(0,1,0),(0,0,1), the same
@@ -410,12 +770,15 @@ def extract_mesh():
         for _, tag in gmsh.model.getEntities(dim):
             ntags, _, _ = gmsh.model.mesh.getNodes(dim, tag, includeBoundary=False,
                                                    returnParametricCoord=False)
-            for nt in ntags:
-                i = index_of.get(int(nt))
-                if i is not None:
-                    assert entity_dim[i] == -1, f"node {nt} classified twice"
-                    entity_dim[i] = dim
-                    entity_tag[i] = tag
+            ntags = np.asarray(ntags, dtype=np.int64)
+            idx = np.searchsorted(used, ntags)
+            keep = idx < len(used)
+            keep[keep] = used[idx[keep]] == ntags[keep]  # nodes no tet uses are skipped
+            idx = idx[keep]
+            assert len(np.unique(idx)) == len(idx) and np.all(entity_dim[idx] == -1), (
+                f"node classified twice (entity {dim}, {tag})")
+            entity_dim[idx] = dim
+            entity_tag[idx] = tag
     assert np.all(entity_dim >= 0), "unclassified node"
 
     # Boundary triangles per surface.
@@ -433,30 +796,54 @@ def extract_mesh():
 OPPOSITE_FACE = [(1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 1, 2)]
 
 
+def face_keys(rows, n_points):
+    """One int64 key per row of 3 sorted vertex ids (21 bits each), or, for
+    more than 2^21 points, dense ids from np.unique over all rows given."""
+    rows = np.asarray(rows, dtype=np.int64)
+    if n_points < (1 << 21):
+        return (rows[:, 0] << 42) | (rows[:, 1] << 21) | rows[:, 2]
+    _, inverse = np.unique(rows, axis=0, return_inverse=True)
+    return inverse.astype(np.int64).reshape(-1)
+
+
 def cad_face_labels(tets, triangles):
     """CADFace: per tet and local face i, the surface tag of the boundary face
-    opposite vertex i, -1 for interior faces."""
-    face_slot = {}
-    seen = {}
-    for t, tet in enumerate(tets.tolist()):
-        for i, (a, b, c) in enumerate(OPPOSITE_FACE):
-            key = tuple(sorted((tet[a], tet[b], tet[c])))
-            seen[key] = seen.get(key, 0) + 1
-            face_slot[key] = (t, i)
-    boundary = {k for k, n in seen.items() if n == 1}
-    labels = np.full((len(tets), 4), -1, dtype=np.int32)
+    opposite vertex i, -1 for interior faces. Faces are matched as vertex
+    sets (sorted ids); a boundary face is one that only one tet has."""
+    n_tets = len(tets)
+    n_points = int(tets.max()) + 1
+    tet_faces = np.sort(tets[:, OPPOSITE_FACE], axis=2).reshape(-1, 3)  # slot = 4 t + i
+    tri_list = [(stag, np.sort(tris, axis=1)) for stag, tris in triangles.items()]
+    all_rows = np.vstack([tet_faces] + [t for _, t in tri_list])
+    keys = face_keys(all_rows, n_points)
+    face_key, tri_keys = keys[:len(tet_faces)], keys[len(tet_faces):]
+
+    order = np.argsort(face_key, kind="stable")
+    sk = face_key[order]
+    differs = sk[1:] != sk[:-1]
+    first = np.concatenate(([True], differs))
+    last = np.concatenate((differs, [True]))
+    single = first & last
+    boundary_keys, boundary_slots = sk[single], order[single]
+
+    labels = np.full(4 * n_tets, -1, dtype=np.int32)
     matched = 0
-    for stag, tris in triangles.items():
-        for tri in tris.tolist():
-            key = tuple(sorted(tri))
-            assert key in boundary, f"surface {stag} triangle {tri} is not a boundary tet face"
-            t, i = face_slot[key]
-            assert labels[t, i] == -1, "boundary face labelled twice"
-            labels[t, i] = stag
-            matched += 1
-    assert matched == len(boundary), (
-        f"{len(boundary) - matched} boundary tet faces without a CAD surface")
-    return labels, len(boundary)
+    offset = 0
+    for stag, tris in tri_list:
+        k = tri_keys[offset:offset + len(tris)]
+        offset += len(tris)
+        pos = np.minimum(np.searchsorted(boundary_keys, k), len(boundary_keys) - 1)
+        ok = boundary_keys[pos] == k
+        assert np.all(ok), (f"surface {stag} triangle {tris[np.argmin(ok)].tolist()} "
+                            "is not a boundary tet face")
+        slots = boundary_slots[pos]
+        assert len(np.unique(slots)) == len(slots) and np.all(labels[slots] == -1), \
+            "boundary face labelled twice"
+        labels[slots] = stag
+        matched += len(slots)
+    assert matched == len(boundary_keys), (
+        f"{len(boundary_keys) - matched} boundary tet faces without a CAD surface")
+    return labels.reshape(n_tets, 4), len(boundary_keys)
 
 
 # ----------------------------------------------------------------------------
@@ -608,19 +995,99 @@ def refine_near_surfaces(gmsh_types, size_near, size_far, dist_near, dist_far,
             "dist_near": dist_near, "dist_far": dist_far, "points_per_curve": points_per_curve}
 
 
-def generate(name, out_dir):
+def scaled_sizes(size_options, scale):
+    """The part's mesh sizes times `scale` (curvature sizing: elements per
+    2 pi divided by it), for the fine versions of the parts."""
+    size_options = dict(size_options)
+    if scale == 1.0:
+        return size_options
+    for key in ("Mesh.MeshSizeMin", "Mesh.MeshSizeMax"):
+        if key in size_options:
+            size_options[key] = size_options[key] * scale
+    if "Mesh.MeshSizeFromCurvature" in size_options:
+        size_options["Mesh.MeshSizeFromCurvature"] = int(round(
+            size_options["Mesh.MeshSizeFromCurvature"] / scale))
+    if size_options.get("refine"):
+        refine = dict(size_options["refine"])
+        refine["size_near"] *= scale
+        refine["size_far"] *= scale
+        size_options["refine"] = refine
+    return size_options
+
+
+def setup_part(name, scale=1.0):
+    """Build part `name` in a new Gmsh model and set its mesh options (sizes
+    times `scale`); returns the builder's output and the options set."""
     gmsh.model.add(name)
     description, dims, candidates, size_options = PARTS[name]()
     gmsh.model.occ.synchronize()
 
     options = dict(COMMON_MESH_OPTIONS)
+    size_options = scaled_sizes(size_options, scale)
     refine = size_options.pop("refine", None)
     options.update(size_options)
     for key, value in options.items():
         gmsh.option.setNumber(key, value)
     if refine:
         refine = refine_near_surfaces(**refine)
-    gmsh.model.mesh.generate(3)
+    return description, dims, candidates, options, refine
+
+
+def surface_triangle_count(name, scale):
+    """Boundary triangles of part `name` meshed (surfaces only) at `scale`."""
+    setup_part(name, scale)
+    gmsh.model.mesh.generate(2)
+    count = 0
+    for _, stag in gmsh.model.getEntities(2):
+        _, elem_tags, _ = gmsh.model.mesh.getElements(2, stag)
+        count += sum(len(t) for t in elem_tags)
+    gmsh.model.remove()
+    return count
+
+
+def fine_scale(name, target_triangles):
+    """Size scale giving about `target_triangles` boundary triangles. The
+    count goes about as scale^-b (b near 2): two cheap surface-only meshings,
+    at scale 1 and at a scale aimed at a quarter of the target, fit b and
+    the constant, and the fit gives the scale."""
+    history = []
+    c0 = surface_triangle_count(name, 1.0)
+    history.append({"scale": 1.0, "boundary_triangles": c0})
+    s1 = math.sqrt(c0 / (0.25 * target_triangles))
+    c1 = surface_triangle_count(name, s1)
+    history.append({"scale": s1, "boundary_triangles": c1})
+    b = math.log(c1 / c0) / math.log(1.0 / s1) if c1 != c0 and s1 != 1.0 else 2.0
+    scale = s1 * (c1 / target_triangles) ** (1.0 / b)
+    return scale, history
+
+
+def generate(name, out_dir, scale=1.0, out_name=None, fine=None):
+    """Mesh part `name` and write <out_name>.vtu/.json (out_name defaults to
+    name). scale multiplies the part's mesh sizes (fine versions); `fine` is
+    recorded in the JSON."""
+    out_name = out_name or name
+    description, dims, candidates, options, refine = setup_part(name, scale)
+    if fine is None:
+        gmsh.model.mesh.generate(3)
+    else:
+        # Fine surfaces, coarse inside: mesh the surfaces with the scaled
+        # sizes, then fill the volume without extending the surface sizes
+        # inwards, up to the part's own maximum size, with Gmsh's fast HXT
+        # algorithm (the Delaunay one takes minutes at this size). HXT's tets
+        # vary slightly from run to run; the surface mesh does not.
+        start = time.perf_counter()
+        gmsh.model.mesh.generate(2)
+        print(f"  surface mesh {time.perf_counter() - start:.1f} s", flush=True)
+        volume_options = {"Mesh.MeshSizeExtendFromBoundary": 0,
+                          "Mesh.MeshSizeMax": options["Mesh.MeshSizeMax"] / scale,
+                          "Mesh.Algorithm3D": 10}
+        for key, value in volume_options.items():
+            gmsh.option.setNumber(key, value)
+        fine["volume_mesh_options"] = volume_options
+        start = time.perf_counter()
+        gmsh.model.mesh.generate(3)
+        print(f"  volume mesh {time.perf_counter() - start:.1f} s", flush=True)
+        start = time.perf_counter()
 
     points, tets, entity_dim, entity_tag, triangles, negative = extract_mesh()
     cad_face, n_boundary = cad_face_labels(tets, triangles)
@@ -640,7 +1107,7 @@ def generate(name, out_dir):
         worst[f["primitive"]] = max(worst.get(f["primitive"], 0.0), f["max_node_distance"])
 
     info = {
-        "name": name,
+        "name": out_name,
         "description": description,
         "units": "mm",
         "generator": "Data/generate_parts.py (Gmsh OpenCASCADE kernel)",
@@ -660,22 +1127,39 @@ def generate(name, out_dir):
         "faces": faces,
         "curves": curves,
     }
-    write_vtu(os.path.join(out_dir, name + ".vtu"), points, tets, cad_face,
+    if fine is not None:
+        info["fine"] = fine
+    write_vtu(os.path.join(out_dir, out_name + ".vtu"), points, tets, cad_face,
               entity_dim, entity_tag)
-    with open(os.path.join(out_dir, name + ".json"), "w") as f:
+    with open(os.path.join(out_dir, out_name + ".json"), "w") as f:
         json.dump(info, f, indent=1)
         f.write("\n")
+    if fine is not None:
+        print(f"  arrays, checks and files {time.perf_counter() - start:.1f} s", flush=True)
     gmsh.model.remove()
     return info
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out-dir", default=os.path.dirname(os.path.abspath(__file__)),
-                        help="folder for <name>.vtu and <name>.json (default: this script's folder)")
+    parser.add_argument("--out-dir", default=None,
+                        help="folder for <name>.vtu and <name>.json (default: this script's "
+                             "folder; required with --fine)")
     parser.add_argument("--only", choices=sorted(PARTS), action="append",
                         help="generate only this part (repeatable)")
+    parser.add_argument("--fine", choices=sorted(PARTS), metavar="NAME",
+                        help="write only a finer version of this part, <NAME>_fine.vtu/.json, "
+                             "with about --target-boundary-triangles boundary triangles "
+                             "(for benchmarks; not committed)")
+    parser.add_argument("--target-boundary-triangles", type=int, default=200000,
+                        help="boundary triangles of the --fine part (default 200000)")
     args = parser.parse_args()
+    if args.fine and args.only:
+        parser.error("--fine and --only do not go together")
+    if args.fine and not args.out_dir:
+        parser.error("--fine needs --out-dir (fine parts are not kept in Data/)")
+    if not args.out_dir:
+        args.out_dir = os.path.dirname(os.path.abspath(__file__))
     os.makedirs(args.out_dir, exist_ok=True)
 
     gmsh.initialize(["generate_parts"], readConfigFiles=False)
@@ -683,8 +1167,18 @@ def main():
     gmsh.option.setNumber("General.NumThreads", 1)
     rows = []
     try:
+        if args.fine:
+            start = time.perf_counter()
+            scale, history = fine_scale(args.fine, args.target_boundary_triangles)
+            print(f"fine {args.fine}: size scale {scale:.4f} from surface-only trials "
+                  f"{history} ({time.perf_counter() - start:.1f} s)", flush=True)
+            fine = {"part": args.fine, "target_boundary_triangles": args.target_boundary_triangles,
+                    "size_scale": scale, "surface_only_trials": history}
+            info = generate(args.fine, args.out_dir, scale, args.fine + "_fine", fine)
+            print(f"fine {args.fine}: {time.perf_counter() - start:.1f} s in all")
+            rows.append(info)
         for name in PARTS:
-            if args.only and name not in args.only:
+            if args.fine or (args.only and name not in args.only):
                 continue
             info = generate(name, args.out_dir)
             rows.append(info)

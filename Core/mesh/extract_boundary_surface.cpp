@@ -1,3 +1,5 @@
+// extract_boundary_surface: the boundary faces of a tet mesh as an outward
+// SurfaceMesh, for the segmentation (thesis 2.4) to work on.
 #include "mesh/surface_mesh.h"
 #include "mesh/tet_mesh.h"
 

@@ -1,3 +1,5 @@
+// build_surface_mesh: the closed triangulated surface the segmentation works
+// on (thesis 2.4), with edge adjacency found through vertex stars in O(#F).
 #include "mesh/surface_mesh.h"
 
 #include <algorithm>
@@ -78,9 +80,7 @@ Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, 
   // a. Each edge is counted once: by its lowest triangle.
   out.neighbors.resize(nf);
   std::size_t open = 0, nonmanifold = 0, misoriented = 0;
-  double length_sum = 0;
-  std::size_t edge_count = 0;
-#pragma omp parallel for schedule(static) reduction(+ : open, nonmanifold, misoriented, length_sum, edge_count) if(nf >= kParallelMinItems)
+#pragma omp parallel for schedule(static) reduction(+ : open, nonmanifold, misoriented) if(nf >= kParallelMinItems)
   for (index_t f = 0; f < nf; ++f) {
     for (int k = 0; k < 3; ++k) {
       const index_t a = tris[f][k], b = tris[f][(k + 1) % 3];
@@ -103,23 +103,28 @@ Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, 
       }
       if (count == 1) {
         out.neighbors[f][k] = other;
-        if (f < other) {
-          misoriented += same_direction;
-          length_sum += (p[b] - p[a]).norm();
-          ++edge_count;
-        }
+        if (f < other) misoriented += same_direction;
       } else {
         out.neighbors[f][k] = kInvalidIndex;
         if (count == 0) {
           ++open;
-          length_sum += (p[b] - p[a]).norm();
-          ++edge_count;
         } else if (lowest == f) {
           ++nonmanifold;
         }
       }
     }
   }
+  // Mean edge length, each edge once, summed in a fixed order so that it does
+  // not depend on the number of threads (thresholds downstream scale by it).
+  double length_sum = 0;
+  std::size_t edge_count = 0;
+  for (index_t f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const index_t g = out.neighbors[f][k];
+      if (g >= 0 && g < f) continue;
+      length_sum += (p[tris[f][(k + 1) % 3]] - p[tris[f][k]]).norm();
+      ++edge_count;
+    }
   out.mean_edge_length = edge_count ? length_sum / static_cast<double>(edge_count) : 0.0;
 
   if (report) {

@@ -31,8 +31,15 @@ using Mat = Eigen::Matrix<double, N, N>;
 template <int N>
 using Vec = Eigen::Matrix<double, N, 1>;
 
-// Solves the normal equations m x = rhs (m symmetric); false when m is
-// singular or too badly conditioned.
+// m += r r^T on the lower triangle, all that LDLT reads.
+template <int N>
+inline void add_outer_lower(Mat<N>& m, const Vec<N>& r) {
+  for (int a = 0; a < N; ++a)
+    for (int b = 0; b <= a; ++b) m(a, b) += r[a] * r[b];
+}
+
+// Solves the normal equations m x = rhs (m symmetric, lower triangle used);
+// false when m is singular or too badly conditioned.
 template <int N>
 bool solve_least_squares(const Mat<N>& m, const Vec<N>& rhs, Vec<N>& x) {
   const Eigen::LDLT<Mat<N>> ldlt(m);
@@ -83,7 +90,7 @@ bool fit_slopes(const std::vector<Vec3>& x, const std::vector<index_t>& ring, co
     Vec<N> row;
     row.template head<5>() << u, w, 0.5 * u * u, u * w, 0.5 * w * w;
     if constexpr (N == 9) row.template tail<4>() << u * u * u, u * u * w, u * w * w, w * w * w;
-    m.noalias() += row * row.transpose();
+    add_outer_lower(m, row);
     rhs += d.dot(n0) * row;
   }
   Vec<N> s;
@@ -227,16 +234,16 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
       if (rho == 0) return;
       row << 0.5 * u * u, u * w, 0.5 * w * w, u * u * u / 6, 0.5 * u * u * w, 0.5 * u * w * w, w * w * w / 6;
       row /= rho;
-      m.noalias() += row * row.transpose();
+      add_outer_lower(m, row);
       rhs -= (z / rho) * row;
       if (!evaluated[j]) return;
       const Vec3 ro = c.vertex_normal[j] - n;  // a_Ro
       const double r1 = ro.dot(t1), r2 = ro.dot(t2);
       row << u, w, 0, 0.5 * u * u, u * w, 0.5 * w * w, 0;
-      m.noalias() += row * row.transpose();
+      add_outer_lower(m, row);
       rhs += r1 * row;
       row << 0, u, w, 0, 0.5 * u * u, u * w, 0.5 * w * w;
-      m.noalias() += row * row.transpose();
+      add_outer_lower(m, row);
       rhs += r2 * row;
     });
     Vec3 s;

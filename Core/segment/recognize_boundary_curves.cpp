@@ -57,6 +57,11 @@ void recognize_boundary_curves(const State& st, Segmentation& out) {
                                                  out.regions[curve.region_b].surface);
     curve.curve = fit.curve;
     curve.type = fit.ok ? fit.curve.type : CurveType::Unclassified;
+    // Along a freeform (unknown) region only a straight line is certain: a
+    // planar section of it may look like an arc within the tolerance.
+    const bool freeform = out.regions[curve.region_a].type == SurfaceType::Unknown ||
+                          out.regions[curve.region_b].type == SurfaceType::Unknown;
+    if (freeform && curve.type != CurveType::Line) curve.type = curve.curve.type = CurveType::Unclassified;
     curve.fit_max = fit.max_abs;
     // G1 where the two regions meet tangentially (build_region_graph).
     const Region& ra = out.regions[curve.region_a];

@@ -60,6 +60,7 @@ Status segment_surface(const SurfaceMesh& surface, const SegmentationParams& par
   segment::merge_equal_regions(st);
   segment::reestimate_region_boundaries(st);
   segment::merge_equal_regions(st);  // regions the re-estimation left tiny
+  segment::dissolve_ambiguous_regions(st);
   out.times.tori = lap();
   if (!report(0.8, "fit refinement")) return aborted;
   segment::refine_region_fits(st);

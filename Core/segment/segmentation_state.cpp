@@ -84,7 +84,7 @@ std::vector<Vec3> region_normals(const State& st, const std::vector<index_t>& tr
 }  // namespace
 
 FitResult fit_region(const State& st, SurfaceType type, const std::vector<index_t>& triangles,
-                     const std::vector<Vec3>* max_dirs) {
+                     const std::vector<Vec3>* max_dirs, bool refine) {
   const std::vector<index_t> vertices = st.vertices_of(triangles);
   const std::vector<Vec3> points = st.positions(vertices);
   const std::vector<Vec3> normals = region_normals(st, triangles, vertices);
@@ -115,7 +115,7 @@ FitResult fit_region(const State& st, SurfaceType type, const std::vector<index_
     }
     default: return fit;
   }
-  if (!fit.ok) return fit;
+  if (!fit.ok || !refine) return fit;
   const FitResult refined = refine_fit_lm(fit.surface, points);
   if (refined.ok && refined.rms <= fit.rms) return refined;
   return fit;
@@ -216,6 +216,11 @@ bool simpler_type_fits(const State& st, SurfaceType type, const std::vector<inde
   const std::size_t nv = st.vertices_of(triangles).size();
   for (SurfaceType s : simpler) {
     if (nv < min_vertices(s)) continue;
+    // The direct fit decides when it is clearly in or out; LM only near the bar.
+    const FitResult quick = fit_region(st, s, triangles, nullptr, false);
+    if (!quick.ok) continue;
+    if (quick.max_abs <= bar) return true;
+    if (quick.max_abs > 10 * bar) continue;
     const FitResult fit = fit_region(st, s, triangles);
     if (fit.ok && fit.max_abs <= bar) return true;
   }

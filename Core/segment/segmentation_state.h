@@ -54,8 +54,9 @@ struct State {
 
 /// Fits a surface of `type` to the vertices of `triangles` (the type's direct
 /// fit, RANSAC for cones/spheres/tori, then LM). ok = false if no fit.
+/// `refine` = false skips the final LM (for quick verdicts).
 FitResult fit_region(const State& state, SurfaceType type, const std::vector<index_t>& triangles,
-                     const std::vector<Vec3>* max_dirs = nullptr);
+                     const std::vector<Vec3>* max_dirs = nullptr, bool refine = true);
 
 /// Region integration, thesis 2.4.3.3: starting from `seed` triangles and a
 /// fit of `type`, alternately grows the region over unassigned triangles
@@ -101,6 +102,7 @@ void extract_torus_regions(State& state);        // A14, with the false-region m
 void classify_remaining_regions(State& state);   // beyond the thesis: leftovers get the best-fitting primitive or unknown
 void reestimate_region_boundaries(State& state); // A14 boundary re-estimation, applied to every region border
 void merge_equal_regions(State& state);          // adjacent regions with one surface become one
+void dissolve_ambiguous_regions(State& state);   // freeform faces: patchworks of local fits become unknown
 void refine_region_fits(State& state);           // A15, Levenberg-Marquardt
 void build_region_graph(const State& state, Segmentation& out);          // adjacency, G0/G1, convexity
 void recognize_boundary_curves(const State& state, Segmentation& out);  // A16

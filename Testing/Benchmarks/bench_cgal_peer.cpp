@@ -6,9 +6,9 @@
 //   for p in boss_block filleted_box cone_sphere_torus; do
 //     /usr/bin/python3 Testing/Benchmarks/boundary_points_normals.py Data/$p.vtu /tmp/$p.txt
 //   done
-//   build/bin/bench_cgal_peer [--repeat=3] [--epsilon=0.002] [--cluster-epsilon=0.05]
-//       [--min-points=0.002] [--probability=0.05] [--normal-threshold=0.98] [--seed=1]
-//       [--types=pckst] [--shapes] /tmp/*.txt
+//   build/bin/bench_cgal_peer [--repeat=3] [--epsilon=0.0005] [--cluster-epsilon=0.05]
+//       [--min-points=0.002] [--probability=0.05] [--normal-threshold=0.99] [--seed=1]
+//       [--max-radius=1] [--types=pckst] [--shapes] /tmp/*.txt
 //
 // Per part: the median time of the repeats (whole call, and CGAL's detect()
 // alone), shapes found per type against the CAD faces per type ("found/true"),
@@ -177,6 +177,7 @@ int main(int argc, char** argv) {
     else if (parse_double(argv[i], "--probability", v)) parameters.probability = v;
     else if (parse_double(argv[i], "--normal-threshold", v)) parameters.normal_threshold = v;
     else if (parse_double(argv[i], "--seed", v)) parameters.seed = static_cast<unsigned>(v);
+    else if (parse_double(argv[i], "--max-radius", v)) parameters.max_radius_relative = v;
     else if (std::strcmp(argv[i], "--shapes") == 0) print_shapes = true;
     else if (std::strncmp(argv[i], "--types=", 8) == 0) {
       const std::string t = argv[i] + 8;  // letters: p plane, c cylinder, k cone, s sphere, t torus

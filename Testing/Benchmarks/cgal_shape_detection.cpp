@@ -45,13 +45,13 @@ using Torus = CGAL::Shape_detection::Torus<Traits>;
 // patch that straddles the angle origin spans 2 pi radius / cluster_epsilon
 // cells. SafeBitmap maps non-finite parameters to the minimum corner and, if
 // the bitmap would still exceed kMaxBitmapCells, coarsens cluster_epsilon for
-// that candidate only. RadiusLimited also rejects cylinder and sphere
+// that candidate only (not for spheres). RadiusLimited also rejects cylinder and sphere
 // candidates with a radius outside [epsilon, max_radius] at creation: below
 // epsilon they are a line or a point, and the radius limits are what other
 // RANSAC front ends (CloudCompare) offer too.
 constexpr double kMaxBitmapCells = double(1 << 24);
 
-template <class Base>
+template <class Base, bool kMayCoarsen = true>
 class SafeBitmap : public Base {
  protected:
   using FT = typename Base::FT;
@@ -87,15 +87,16 @@ class SafeBitmap : public Base {
     const double ce = CGAL::to_double(cluster_epsilon);
     const double cells = std::ceil(CGAL::to_double(max[0] - min[0]) / ce + 1) *
                          std::ceil(CGAL::to_double(max[1] - min[1]) / ce + 1);
-    if (cells > kMaxBitmapCells) cluster_epsilon = FT(ce * std::sqrt(cells / kMaxBitmapCells) * 1.01);
+    if (kMayCoarsen && cells > kMaxBitmapCells)
+      cluster_epsilon = FT(ce * std::sqrt(cells / kMaxBitmapCells) * 1.01);
   }
 };
 
 thread_local double g_min_radius = 0;
 thread_local double g_max_radius = std::numeric_limits<double>::infinity();
 
-template <class Base>
-class RadiusLimited : public SafeBitmap<Base> {
+template <class Base, bool kMayCoarsen>
+class RadiusLimited : public SafeBitmap<Base, kMayCoarsen> {
  protected:
   void create_shape(const std::vector<std::size_t>& indices) override {
     Base::create_shape(indices);
@@ -106,8 +107,10 @@ class RadiusLimited : public SafeBitmap<Base> {
 };
 using SafePlane = SafeBitmap<Plane>;
 using SafeCone = SafeBitmap<Cone>;
-using LimitedCylinder = RadiusLimited<Cylinder>;
-using LimitedSphere = RadiusLimited<Sphere>;
+using LimitedCylinder = RadiusLimited<Cylinder, true>;
+// Not the sphere: its wrap-around bookkeeping (m_equator) is computed with
+// its own cluster_epsilon; its radius limit bounds its bitmap instead.
+using LimitedSphere = RadiusLimited<Sphere, false>;
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) {

@@ -31,21 +31,24 @@ namespace bench {
 //   normal_threshold  smallest cosine between point normal and shape normal
 //                     (default 0.9, about 25 degrees).
 // Our defaults differ where the input differs from a scanned point cloud:
-// points lie on the CAD surfaces exactly (epsilon small) but are spaced like
-// a graded FE mesh, up to several percent of the diagonal on large planes
-// (cluster_epsilon larger), fillets hold under 1% of the points (min_points
-// smaller), and the normals inside faces are accurate (normal_threshold
-// 0.98, about 11.5 degrees). On the five Data/ parts over five seeds, 0.98
-// recovered 137 of 520 CAD faces against 78 with CGAL's 0.9; epsilon 0.001
-// or 0.005, cluster_epsilon 0.1, min_points 0.005 or probability 0.01 did not
-// do better (bench_cgal_peer's "recovered" column).
+// points lie on the CAD surfaces exactly and their normals inside faces are
+// accurate (epsilon and the normal angle small), but they are spaced like a
+// graded FE mesh, up to several percent of the diagonal on large planes
+// (cluster_epsilon larger), and fillets hold well under 1% of the points
+// (min_points smaller). Chosen by a sweep on the five Data/ parts, five seeds
+// each (bench_cgal_peer; 520 CAD faces in all): CGAL-like epsilon 0.002 and
+// normal_threshold 0.9 recovered 178 faces (right type, points mostly on the
+// face), 127 of them with sizes within 1%; these defaults recover 374 and
+// 251. cluster_epsilon 0.03-0.1, min_points 0.001-0.005, probability 0.01
+// and normal thresholds 0.98-0.998 change little (probability 0.01 costs
+// 2.5 times the time).
 struct CgalRansacParameters {
   double probability = 0.05;
   double min_points_fraction = 0.002;  // of the number of points ...
   std::size_t min_points_at_least = 10;  // ... but at least this many
-  double epsilon_relative = 0.002;       // of the bounding box diagonal
+  double epsilon_relative = 0.0005;      // of the bounding box diagonal
   double cluster_epsilon_relative = 0.05;  // of the bounding box diagonal
-  double normal_threshold = 0.98;
+  double normal_threshold = 0.99;  // about 8 degrees
   // Cylinder and sphere candidates with a radius above this (relative to the
   // bounding box diagonal; 0: no limit) or below epsilon are rejected: CGAL
   // 5.5 crashes on such degenerate candidates (see the .cpp).

@@ -148,7 +148,9 @@ def face_matches(face, row):
                 rel(row["MinorRadius"], face["minor_radius"]) < RADIUS_RTOL and
                 angle_deg(row["Axis"], face["axis_direction"]) < ANGLE_TOL_DEG and
                 np.linalg.norm(np.subtract(row["Center"], face["center"])) < POSITION_TOL)
-    return False
+    # A freeform face has no parameters to compare: the area check below
+    # tells unknown regions apart.
+    return kind == "unknown"
 
 
 def describe(row):
@@ -181,7 +183,7 @@ def check_table(rows, part):
             "\n    ".join(describe(r) for r in rows if r["TypeName"] == face["primitive"])))
         match[face["tag"]] = candidates[0]
         row = rows[candidates[0]]
-        convexity = "" if face["convexity"] == "flat" else face["convexity"]
+        convexity = "" if face["convexity"] in ("flat", "mixed") else face["convexity"]
         check(row["Convexity"] == convexity, "%s: convexity %r, expected %r" % (
             face["label"], row["Convexity"], convexity))
         check(rel(row["Area"], face["area"]) < AREA_RTOL, "%s: area %.3f, CAD %.3f" % (
@@ -198,8 +200,12 @@ def check_table(rows, part):
             else:
                 check(np.isnan(value).all(), "region %d (%s): %s should be NaN, is %r" % (
                     i, row["TypeName"], name, row[name]))
-        check(np.isfinite(row["FitResidual"]) and row["FitResidual"] >= 0,
-              "region %d: FitResidual %r" % (i, row["FitResidual"]))
+        if row["TypeName"] == "unknown":
+            check(np.isnan(row["FitResidual"]), "region %d (unknown): FitResidual %r" % (
+                i, row["FitResidual"]))
+        else:
+            check(np.isfinite(row["FitResidual"]) and row["FitResidual"] >= 0,
+                  "region %d: FitResidual %r" % (i, row["FitResidual"]))
         check(row["TriangleCount"] > 0, "region %d has no triangles" % i)
     total = sum(int(r["TriangleCount"]) for r in rows)
     check(total == part["counts"]["boundary_triangles"], "triangle counts add up to %d, not %d" % (
@@ -326,11 +332,23 @@ def check_mesh(mesh, grid, rows, part):
           "a line or circular arc is a closed curve")
     print("  curves: %d (%s), expected %s" % (n, ", ".join(
         "%d %s" % (v, k) for k, v in found.items()), expected))
+    # OpenCASCADE's "TrimmedCurve" is a trimmed basis curve (here circular
+    # arcs); the .json does not say which, so such curves may be counted as
+    # circles/arcs or as other types.
+    trimmed = expected.get("TrimmedCurve", 0)
     for name, count in expected.items():
-        check(found.get(name, 0) == count, "%d %s curves, the part has %d" % (
-            found.get(name, 0), name, count))
-    check(n == sum(expected.values()), "%d curves, the part has %d" % (
-        n, sum(expected.values())))
+        if name not in CURVE_CODES:
+            continue
+        slack = trimmed if name == "Circle" else 0
+        check(count <= found.get(name, 0) <= count + slack, "%d %s curves, the part has %d%s" % (
+            found.get(name, 0), name, count, " (+%d trimmed)" % slack if slack else ""))
+    # OpenCASCADE splits a closed curve at a seam vertex into several; the
+    # segmentation sees one loop. So: at most the CAD's count, at least one
+    # per pair of adjacent faces.
+    pairs = {tuple(sorted(set(c["surfaces"]))) for c in part["curves"]
+             if len(set(c["surfaces"])) == 2 and not c["degenerate"]}
+    check(len(pairs) <= n <= sum(expected.values()), "%d curves, the part has %d (%d face pairs)" % (
+        n, sum(expected.values()), len(pairs)))
     times = mesh.GetFieldData().GetArray("SegmentationTimes")
     check(times is not None and times.GetNumberOfTuples() == 1, "SegmentationTimes missing")
     print("  segmentation time: %.2f s" % times.GetComponent(0, times.GetNumberOfComponents() - 1))

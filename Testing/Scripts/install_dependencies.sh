@@ -16,8 +16,9 @@ packages=(
   paraview-dev python3-paraview libopenmpi-dev libdouble-conversion-dev
   # The plugin's XML documentation: Qt's xmlpatterns, Qt5Help and qhelpgenerator.
   qtxmlpatterns5-dev-tools qttools5-dev qttools5-dev-tools qhelpgenerator-qt5
-  # Tests and benchmarks.
-  libgtest-dev libbenchmark-dev python3-numpy
+  # Tests and benchmarks; CGAL (header-only, with GMP and MPFR) is the peer of
+  # the segmentation benchmark only.
+  libgtest-dev libbenchmark-dev python3-numpy libcgal-dev libgmp-dev libmpfr-dev
   # Pictures from pvbatch need an X server (Debian's ParaView has no EGL/OSMesa).
   xvfb xauth
   # Data/generate_parts.py: CAD parts through Gmsh's OpenCASCADE kernel.

@@ -179,6 +179,7 @@ void check_against_cad(const Part& part, const Result& r, double rel) {
                               " (" + first["label"].get<std::string>() + ")";
     // Faces merged into one region must be one primitive.
     for (int tag : tags) {
+      if (tag == *tags.begin()) continue;
       const SurfacePrimitive other = surface_of(part.faces.at(tag));
       EXPECT_TRUE(femorph::same_surface(truth, other, 1e-9, part.scale, 1e-9))
           << label << " also holds CAD face " << tag << " (" << part.faces.at(tag)["label"].get<std::string>()
@@ -238,6 +239,7 @@ TEST_P(SegmentPart, JitteredVerticesKeepTypesAndRadiiWithin1e3) {
 }
 
 INSTANTIATE_TEST_SUITE_P(DataParts, SegmentPart,
-                         ::testing::Values("boss_block", "filleted_box", "cone_sphere_torus"));
+                         ::testing::Values("boss_block", "filleted_box", "cone_sphere_torus", "fillet_junctions",
+                                           "bspline_face"));
 
 }  // namespace
