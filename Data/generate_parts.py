@@ -7,6 +7,8 @@ are Debian packages that a pyenv python cannot see):
     /usr/bin/python3 Data/generate_parts.py [--out-dir Data] [--only NAME]
     /usr/bin/python3 Data/generate_parts.py --fine boss_block --out-dir /tmp/parts \
         [--target-boundary-triangles 200000]
+    /usr/bin/python3 Data/generate_parts.py --step part.step [--step ...] \
+        --out-dir /tmp/parts [--mesh-size H]
 
 For every part it writes <name>.vtu (tets, CAD face labels per tet face, CAD
 entity of every node) and <name>.json (construction dimensions, mesh options,
@@ -22,6 +24,11 @@ in Gmsh's tag order. Data/README.md describes the file formats.
 given number of boundary triangles (mesh sizes scaled; a coarser inside),
 for benchmarks; it is not kept in Data/. Its surface mesh is deterministic,
 its tets (Gmsh's HXT algorithm) vary slightly between runs.
+
+--step meshes STEP files made by others (e.g. shared/realparts) the same way
+and writes <stem>.vtu/.json with the same arrays. The JSON's faces carry
+Gmsh's type and the primitive found by fitting the face's nodes (Gmsh names
+many exact cylinders "Unknown"), with the fitted parameters.
 """
 
 import argparse
@@ -1140,11 +1147,412 @@ def generate(name, out_dir, scale=1.0, out_name=None, fine=None):
     return info
 
 
+# ----------------------------------------------------------------------------
+# STEP files made by others (--step): import, mesh, and find what each face
+# really is. Gmsh gives no parameters for an imported face, and it calls OCC
+# surfaces of revolution or extrusion and B-splines "Unknown" even when they
+# are exactly cylinders; so every face's nodes (which Gmsh puts on the CAD
+# surface) are fitted, with the surface normals at the nodes (from the CAD
+# surface) to find axes.
+# ----------------------------------------------------------------------------
+
+# A face is a primitive when all its nodes are within this fraction of the
+# part's bounding box diagonal of the fitted surface.
+STEP_FIT_TOLERANCE = 1e-7
+# Default mesh sizes, as fractions of the bounding box diagonal and elements
+# per 2 pi of curvature.
+STEP_SIZE_MAX_FRACTION = 1.0 / 50.0
+STEP_SIZE_MIN_RATIO = 1.0 / 20.0     # minimum size / maximum size
+STEP_CURVATURE_ELEMENTS = 20
+# Fits tried on a face Gmsh calls "Unknown" (or any type it has no primitive
+# for), simplest first.
+STEP_FIT_ORDER = ["plane", "sphere", "cylinder", "cone", "torus"]
+
+
+def fit_circle_2d(p):
+    """Algebraic (Kasa) circle fit to 2D points: centre and radius."""
+    a = np.column_stack([2.0 * p, np.ones(len(p))])
+    sol, *_ = np.linalg.lstsq(a, np.einsum("ij,ij->i", p, p), rcond=None)
+    center = sol[:2]
+    r2 = sol[2] + center @ center
+    return center, math.sqrt(r2) if r2 > 0 else float("nan")
+
+
+def perpendicular_basis(a):
+    e1 = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
+    e1 = unit(e1)
+    return e1, np.cross(a, e1)
+
+
+def fit_plane_nodes(x, n):
+    c = x.mean(axis=0)
+    normal = np.linalg.svd(x - c, full_matrices=False)[2][-1]
+    return plane("", c, normal)
+
+
+def fit_sphere_nodes(x, n):
+    c0 = x.mean(axis=0)
+    center, r = None, None
+    a = np.column_stack([2.0 * (x - c0), np.ones(len(x))])
+    sol, *_ = np.linalg.lstsq(a, np.einsum("ij,ij->i", x - c0, x - c0), rcond=None)
+    r2 = sol[3] + sol[:3] @ sol[:3]
+    if not r2 > 0:
+        return None
+    return sphere("", c0 + sol[:3], math.sqrt(r2), "")
+
+
+def fit_cylinder_nodes(x, n):
+    """Axis: the direction all normals are perpendicular to; then a circle
+    in the plane across it."""
+    w, v = np.linalg.eigh(n.T @ n)
+    a = v[:, 0]
+    e1, e2 = perpendicular_basis(a)
+    c0 = x.mean(axis=0)
+    p = np.column_stack([(x - c0) @ e1, (x - c0) @ e2])
+    center, r = fit_circle_2d(p)
+    if not r > 0:
+        return None
+    return cylinder("", c0 + center[0] * e1 + center[1] * e2, a, r, "")
+
+
+def fit_cone_nodes(x, n):
+    """Axis: the normals make one angle with it (they lie on a circle of the
+    unit sphere); apex: every normal is perpendicular to its generator, so
+    n.(x - apex) = 0."""
+    nm = n.mean(axis=0)
+    a = np.linalg.svd(n - nm, full_matrices=False)[2][-1]
+    s = float(nm @ a)
+    if abs(s) < 1e-6:
+        return None  # a cylinder (or plane)
+    apex, *_ = np.linalg.lstsq(n, np.einsum("ij,ij->i", n, x), rcond=None)
+    h, rho = axial_split(x, apex, a)
+    if np.mean(h) < 0:
+        a, h = -a, -h
+    half_angle = math.degrees(math.atan2(float(np.mean(rho)), float(np.mean(h))))
+    return cone("", apex, a, half_angle, "")
+
+
+def fit_torus_nodes(x, n):
+    """Axis: the line every normal line meets (surface of revolution). In
+    Pluecker coordinates the axis (a, m = c x a) meets the normal line
+    (n, x x n) when a.(x x n) + n.m = 0: linear, solved by SVD. Then the
+    meridian profile (rho, h) is a circle."""
+    c0 = x.mean(axis=0)
+    xc = x - c0
+    rows = np.column_stack([np.cross(xc, n), n])
+    v = np.linalg.svd(rows, full_matrices=False)[2][-1]
+    a, m = v[:3], v[3:]
+    if np.linalg.norm(a) < 1e-9:
+        return None
+    m = m / np.linalg.norm(a)
+    a = unit(a)
+    foot = c0 + np.cross(a, m)
+    h, rho = axial_split(x, foot, a)
+    center, r = fit_circle_2d(np.column_stack([rho, h]))
+    if not (r > 0 and center[0] > 0):
+        return None
+    return torus("", foot + center[1] * a, a, center[0], r, "")
+
+
+FIT_OF_PRIMITIVE = {"plane": fit_plane_nodes, "sphere": fit_sphere_nodes,
+                    "cylinder": fit_cylinder_nodes, "cone": fit_cone_nodes,
+                    "torus": fit_torus_nodes}
+
+
+def cad_normals(stag, x):
+    """Unit normals of CAD surface stag at points x on it."""
+    uv = gmsh.model.getParametrization(2, stag, x.ravel().tolist())
+    n = np.asarray(gmsh.model.getNormal(stag, uv), dtype=float).reshape(-1, 3)
+    return n / np.linalg.norm(n, axis=1)[:, None]
+
+
+def boundary_face_geometry(points, tets, cad_face):
+    """Per CAD surface tag: vertex triples, centroids and outward area
+    vectors (half the cross product, pointing away from the tet) of its
+    boundary tet faces."""
+    t, i = np.nonzero(cad_face >= 0)
+    opposite = np.asarray(OPPOSITE_FACE)[i]
+    tri = tets[t[:, None], opposite]
+    p0, p1, p2 = (points[tri[:, k]] for k in range(3))
+    area_vec = np.cross(p1 - p0, p2 - p0) / 2.0
+    inward = points[tets[t, i]] - p0
+    flip = np.einsum("ij,ij->i", area_vec, inward) > 0
+    area_vec[flip] *= -1.0
+    centroid = (p0 + p1 + p2) / 3.0
+    labels = cad_face[t, i]
+    return {int(s): (tri[labels == s], centroid[labels == s], area_vec[labels == s])
+            for s in np.unique(labels)}
+
+
+def mesh_convexity(tri, area_vec, nodes, x, normals):
+    """Convexity of a face seen from outside, from the CAD surface normals at
+    its nodes (`nodes`, at positions x; turned to point out of the material
+    like the triangles `tri`): along each mesh edge p-q the normals spread
+    apart, (n_q - n_p).(q - p) > 0, on a convex surface and come together on
+    a concave one. 'flat' when they never turn, 'mixed' unless one sign has
+    99% of the sum of the normal curvatures |(n_q - n_p).(q - p)| / |q - p|^2."""
+    index = {int(v): k for k, v in enumerate(nodes)}
+    local = np.vectorize(index.__getitem__)(tri)
+    n = np.asarray(normals, dtype=float)
+    if np.sum(n[local].mean(axis=1) * area_vec) < 0:
+        n = -n
+    edges = np.unique(np.sort(np.vstack([local[:, [0, 1]], local[:, [1, 2]],
+                                         local[:, [2, 0]]]), axis=1), axis=0)
+    d = x[edges[:, 1]] - x[edges[:, 0]]
+    kappa = np.einsum("ij,ij->i", n[edges[:, 1]] - n[edges[:, 0]], d) / np.einsum(
+        "ij,ij->i", d, d)
+    total = np.sum(np.abs(kappa))
+    if total == 0:
+        return "flat"
+    if np.sum(kappa[kappa > 0]) > 0.99 * total:
+        return "convex"
+    if -np.sum(kappa[kappa < 0]) > 0.99 * total:
+        return "concave"
+    return "mixed"
+
+
+def orient_fitted_surface(surf, centroid, area_vec):
+    """Plane normal out of the material; convexity of curved faces seen from
+    outside: convex when the outward normal points away from the axis /
+    centre / tube circle. 'mixed' if the face's triangles disagree."""
+    kind = surf["primitive"]
+    if kind == "plane":
+        if np.sum(area_vec @ np.asarray(surf["normal"])) < 0:
+            surf["normal"] = [-c for c in surf["normal"]]
+        surf["convexity"] = "flat"
+        return surf
+    if kind in ("cylinder", "cone", "torus"):
+        origin = np.asarray(surf.get("axis_point", surf.get("apex", surf.get("center"))))
+        a = np.asarray(surf["axis_direction"])
+        v = centroid - origin
+        radial = v - np.outer(v @ a, a)
+        if kind == "torus":
+            radial = v - unit_rows(radial) * surf["major_radius"]
+    else:  # sphere
+        radial = centroid - np.asarray(surf["center"])
+    s = np.einsum("ij,ij->i", area_vec, unit_rows(radial))
+    area = np.linalg.norm(area_vec, axis=1)
+    if np.sum(area[s > 0]) > 0.999 * np.sum(area):
+        surf["convexity"] = "convex"
+    elif np.sum(area[s < 0]) > 0.999 * np.sum(area):
+        surf["convexity"] = "concave"
+    else:
+        surf["convexity"] = "mixed"
+    return surf
+
+
+def unit_rows(v):
+    return v / np.linalg.norm(v, axis=1)[:, None]
+
+
+def describe_unknown_face(stag, x, n):
+    """What can be said of a face no primitive fits: whether it is a general
+    extrusion (all normals perpendicular to one direction) and the range of
+    its curvature radii at the nodes (1 / the larger principal curvature,
+    Gmsh's evaluation on the CAD surface)."""
+    uv = gmsh.model.getParametrization(2, stag, x.ravel().tolist())
+    k1, k2, _, _ = gmsh.model.getPrincipalCurvatures(stag, uv)
+    k = np.maximum(np.abs(np.asarray(k1)), np.abs(np.asarray(k2)))
+    radii = 1.0 / k[k > 0] if np.any(k > 0) else np.array([np.inf])
+    shape = {"curvature_radius_range": [float(radii.min()), float(radii.max())]}
+    w, v = np.linalg.eigh(n.T @ n)
+    d = v[:, 0]
+    off = float(np.max(np.abs(n @ d)))
+    if off < 1e-7:
+        shape.update({"kind": "general extrusion (normals perpendicular to one direction)",
+                      "extrusion_direction": d.tolist(), "max_normal_component": off})
+    else:
+        shape["kind"] = "freeform"
+    return shape
+
+
+def identify_step_faces(points, triangles, cad_face, tets, part_size):
+    """One JSON entry per CAD surface of an imported STEP: Gmsh's type, the
+    primitive and its parameters from a fit of the face's nodes (the type
+    Gmsh names, else the simplest that fits within the tolerance; else
+    'unknown'), the deviations of the fits tried, and the largest distance
+    of the nodes to the CAD surface itself (OCC's projection)."""
+    tolerance = STEP_FIT_TOLERANCE * part_size
+    geometry = boundary_face_geometry(points, tets, cad_face)
+    faces = []
+    for _, stag in gmsh.model.getEntities(2):
+        gmsh_type = gmsh.model.getType(2, stag)
+        tris = triangles[stag]
+        nodes = np.unique(tris)
+        x = points[nodes]
+        n = cad_normals(stag, x)
+        closest, _ = gmsh.model.getClosestPoint(2, stag, x.ravel().tolist())
+        cad_distance = float(np.max(np.linalg.norm(
+            np.asarray(closest).reshape(-1, 3) - x, axis=1)))
+        named = PRIMITIVE_OF_GMSH_TYPE.get(gmsh_type)
+        tried = {}
+        found = None
+        for kind in ([named] if named else STEP_FIT_ORDER):
+            surf = FIT_OF_PRIMITIVE[kind](x, n)
+            if surf is None:
+                tried[kind] = None
+                continue
+            dev = float(np.max(distance_to_surface(surf, x)))
+            tried[kind] = dev
+            if dev < tolerance:
+                found = (surf, dev)
+                break
+        if named:
+            assert found, (f"surface {stag}: Gmsh type {gmsh_type}, but its nodes are "
+                           f"{tried[named]:.3g} from the fitted {named} (> {tolerance:.3g})")
+        tri, centroid, area_vec = geometry[stag]
+        if found:
+            surf, dev = found
+            surf = orient_fitted_surface(surf, centroid, area_vec)
+            source = "Gmsh type, parameters fitted" if named else "fit"
+            assert surf["convexity"] != "mixed", f"surface {stag}: {surf['primitive']} of mixed sides"
+            if surf["primitive"] in ("cylinder", "cone", "sphere"):
+                seen = mesh_convexity(tri, area_vec, nodes, x, n)
+                assert seen == surf["convexity"], (
+                    f"surface {stag}: fitted {surf['primitive']} {surf['convexity']}, "
+                    f"the CAD normals along the mesh edges say {seen}")
+        else:
+            surf = {"primitive": "unknown",
+                    "convexity": mesh_convexity(tri, area_vec, nodes, x, n)}
+            dev = cad_distance
+            surf["shape"] = describe_unknown_face(stag, x, n)
+            source = "no primitive fits"
+        surf.pop("label", None)
+        p0, p1, p2 = (points[tris[:, i]] for i in range(3))
+        area = float(np.sum(np.linalg.norm(np.cross(p1 - p0, p2 - p0), axis=1)) / 2.0)
+        entry = {"tag": int(stag), "gmsh_type": gmsh_type,
+                 "label": f"face {stag} ({gmsh_type})"}
+        entry.update(surf)
+        entry.update({"primitive_from": source,
+                      "fit_max_deviation": {k: v for k, v in tried.items()},
+                      "triangle_count": int(len(tris)), "node_count": int(len(nodes)),
+                      "area": area, "max_node_distance": dev,
+                      "max_node_distance_to_cad_surface": cad_distance})
+        faces.append(entry)
+    return faces
+
+
+def same_surface(f, g, tol):
+    """Whether two fitted faces lie on one primitive surface."""
+    if f["primitive"] != g["primitive"] or f["primitive"] == "unknown":
+        return False
+    kind = f["primitive"]
+    if kind == "plane":
+        return (abs(abs(np.dot(f["normal"], g["normal"])) - 1) < 1e-9 and
+                abs(np.dot(np.subtract(g["point"], f["point"]), f["normal"])) < tol)
+    axis_ok = lambda: abs(abs(np.dot(f["axis_direction"], g["axis_direction"])) - 1) < 1e-9
+    if kind == "cylinder":
+        return (axis_ok() and abs(f["radius"] - g["radius"]) < tol and
+                axial_split(np.array([g["axis_point"]]), f["axis_point"],
+                            f["axis_direction"])[1][0] < tol)
+    if kind == "cone":
+        return (axis_ok() and abs(f["half_angle_deg"] - g["half_angle_deg"]) < 1e-6 and
+                np.linalg.norm(np.subtract(f["apex"], g["apex"])) < tol)
+    if kind == "sphere":
+        return (abs(f["radius"] - g["radius"]) < tol and
+                np.linalg.norm(np.subtract(f["center"], g["center"])) < tol)
+    return (axis_ok() and abs(f["major_radius"] - g["major_radius"]) < tol and
+            abs(f["minor_radius"] - g["minor_radius"]) < tol and
+            np.linalg.norm(np.subtract(f["center"], g["center"])) < tol)
+
+
+def step_mesh_options(part_size, mesh_size=None):
+    size_max = mesh_size if mesh_size else STEP_SIZE_MAX_FRACTION * part_size
+    options = dict(COMMON_MESH_OPTIONS)
+    options.update({"Mesh.MeshSizeMin": size_max * STEP_SIZE_MIN_RATIO,
+                    "Mesh.MeshSizeMax": size_max,
+                    "Mesh.MeshSizeFromCurvature": STEP_CURVATURE_ELEMENTS})
+    return options
+
+
+def generate_step(path, out_dir, mesh_size=None):
+    """Import a STEP file with OCC, mesh it with linear tets and write
+    <stem>.vtu/.json like the Data parts, the faces identified by fits."""
+    import hashlib
+    stem = os.path.splitext(os.path.basename(path))[0]
+    start = time.perf_counter()
+    gmsh.model.add(stem)
+    gmsh.model.occ.importShapes(path)
+    gmsh.model.occ.synchronize()
+    single_volume()
+    box = gmsh.model.getBoundingBox(-1, -1)
+    cad_size = float(np.linalg.norm(np.subtract(box[3:], box[:3])))
+    options = step_mesh_options(cad_size, mesh_size)
+    for key, value in options.items():
+        gmsh.option.setNumber(key, value)
+    gmsh.model.mesh.generate(3)
+    mesh_time = time.perf_counter() - start
+
+    points, tets, entity_dim, entity_tag, triangles, negative = extract_mesh()
+    cad_face, n_boundary = cad_face_labels(tets, triangles)
+    n_tris = sum(len(t) for t in triangles.values())
+    assert n_tris == n_boundary
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    part_size = float(np.linalg.norm(hi - lo))
+    faces = identify_step_faces(points, triangles, cad_face, tets, part_size)
+    curves = describe_curves(part_size)
+
+    # Adjacent faces on one primitive surface (a segmentation sees one region).
+    by_tag = {f["tag"]: f for f in faces}
+    shared = set()
+    for c in curves:
+        tags = sorted(set(c["surfaces"]))
+        if len(tags) == 2 and not c["degenerate"] and same_surface(
+                by_tag[tags[0]], by_tag[tags[1]], STEP_FIT_TOLERANCE * part_size * 10):
+            shared.add(tuple(tags))
+
+    by_type, gmsh_types, worst = {}, {}, {}
+    for f in faces:
+        by_type[f["primitive"]] = by_type.get(f["primitive"], 0) + 1
+        gmsh_types[f["gmsh_type"]] = gmsh_types.get(f["gmsh_type"], 0) + 1
+        worst[f["primitive"]] = max(worst.get(f["primitive"], 0.0), f["max_node_distance"])
+    with open(path, "rb") as f:
+        digest = hashlib.md5(f.read()).hexdigest()
+    info = {
+        "name": stem,
+        "description": (f"STEP file {os.path.basename(path)} made by others, imported with "
+                        "Gmsh's OpenCASCADE kernel; face primitives from fits of the nodes"),
+        "units": "mm",
+        "generator": "Data/generate_parts.py --step (Gmsh OpenCASCADE kernel)",
+        "gmsh_version": gmsh.option.getString("General.Version"),
+        "source": {"file": os.path.basename(path), "md5": digest},
+        "dimensions": {},
+        "mesh_options": options,
+        "mesh_refinement": None,
+        "fit": {"tolerance": STEP_FIT_TOLERANCE * part_size,
+                "tolerance_note": (f"{STEP_FIT_TOLERANCE:g} x bounding box diagonal: a face "
+                                   "is a primitive when all its nodes are this close to the "
+                                   "fitted surface"),
+                "order_for_unknown_gmsh_types": STEP_FIT_ORDER},
+        "counts": {"points": int(len(points)), "tets": int(len(tets)),
+                   "boundary_triangles": int(n_tris), "surfaces": len(faces),
+                   "curves": len(curves), "surfaces_by_type": by_type,
+                   "surfaces_by_gmsh_type": gmsh_types},
+        "bounding_box": {"min": lo.tolist(), "max": hi.tolist()},
+        "volume": float(signed_volumes(points, tets).sum()),
+        "orientation": {"gmsh_negative_tets_flipped": negative,
+                        "convention": "(p1-p0).((p2-p0)x(p3-p0)) > 0 for every tet"},
+        "max_node_distance_by_type": worst,
+        "adjacent_faces_on_one_surface": [list(p) for p in sorted(shared)],
+        "faces": faces,
+        "curves": curves,
+    }
+    write_vtu(os.path.join(out_dir, stem + ".vtu"), points, tets, cad_face,
+              entity_dim, entity_tag)
+    with open(os.path.join(out_dir, stem + ".json"), "w") as f:
+        json.dump(info, f, indent=1)
+        f.write("\n")
+    gmsh.model.remove()
+    print(f"  {stem}: meshed in {mesh_time:.1f} s, {time.perf_counter() - start:.1f} s in all",
+          flush=True)
+    return info
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out-dir", default=None,
                         help="folder for <name>.vtu and <name>.json (default: this script's "
-                             "folder; required with --fine)")
+                             "folder; required with --fine and --step)")
     parser.add_argument("--only", choices=sorted(PARTS), action="append",
                         help="generate only this part (repeatable)")
     parser.add_argument("--fine", choices=sorted(PARTS), metavar="NAME",
@@ -1153,7 +1561,20 @@ def main():
                              "(for benchmarks; not committed)")
     parser.add_argument("--target-boundary-triangles", type=int, default=200000,
                         help="boundary triangles of the --fine part (default 200000)")
+    parser.add_argument("--step", action="append", metavar="PATH",
+                        help="mesh this STEP file instead (repeatable): <stem>.vtu/.json in "
+                             "--out-dir, each face's primitive found by fitting its nodes")
+    parser.add_argument("--mesh-size", type=float, default=None,
+                        help="with --step: maximum element size in mm (default: 1/50 of the "
+                             "bounding box diagonal; minimum 1/20 of it, plus curvature "
+                             f"sizing, {STEP_CURVATURE_ELEMENTS} elements per 2 pi)")
     args = parser.parse_args()
+    if args.step and (args.fine or args.only):
+        parser.error("--step does not go with --fine or --only")
+    if args.step and not args.out_dir:
+        parser.error("--step needs --out-dir (meshes of STEP files are not kept in Data/)")
+    if args.mesh_size is not None and not args.step:
+        parser.error("--mesh-size goes with --step")
     if args.fine and args.only:
         parser.error("--fine and --only do not go together")
     if args.fine and not args.out_dir:
@@ -1177,22 +1598,25 @@ def main():
             info = generate(args.fine, args.out_dir, scale, args.fine + "_fine", fine)
             print(f"fine {args.fine}: {time.perf_counter() - start:.1f} s in all")
             rows.append(info)
+        for path in args.step or []:
+            rows.append(generate_step(path, args.out_dir, args.mesh_size))
         for name in PARTS:
-            if args.fine or (args.only and name not in args.only):
+            if args.fine or args.step or (args.only and name not in args.only):
                 continue
             info = generate(name, args.out_dir)
             rows.append(info)
     finally:
         gmsh.finalize()
 
-    print(f"{'part':<18} {'points':>7} {'tets':>7} {'tris':>6}  {'faces by type':<44} "
+    width = max([18] + [len(info["name"]) for info in rows])
+    print(f"{'part':<{width}} {'points':>7} {'tets':>7} {'tris':>6}  {'faces by type':<44} "
           f"{'max dist':>9}  {'vtu KB':>7}")
     for info in rows:
         c = info["counts"]
         types = ", ".join(f"{n} {t}" for t, n in sorted(c["surfaces_by_type"].items()))
         dist = max(info["max_node_distance_by_type"].values())
         size = os.path.getsize(os.path.join(args.out_dir, info["name"] + ".vtu")) / 1024
-        print(f"{info['name']:<18} {c['points']:>7} {c['tets']:>7} {c['boundary_triangles']:>6}  "
+        print(f"{info['name']:<{width}} {c['points']:>7} {c['tets']:>7} {c['boundary_triangles']:>6}  "
               f"{types:<44} {dist:>9.2e}  {size:>7.0f}")
     print(f"written to {args.out_dir}" + ("" if HAVE_VTK else " (ascii .vtu: vtkmodules not found)"))
 

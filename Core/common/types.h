@@ -21,6 +21,8 @@ inline double degrees_to_radians(double deg) { return deg * kPi / 180.0; }
 /// more than the work, and far more on a busy machine where a worker is not
 /// scheduled at once.
 constexpr long kParallelMinItems = 10000;
+/// The same for loops whose items cost microseconds each (curvature fits).
+constexpr long kParallelMinHeavyItems = 500;
 using Tet = std::array<index_t, 4>;
 
 /// Result of a core function that can fail: ok, or a message for the user.

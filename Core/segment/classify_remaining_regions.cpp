@@ -15,10 +15,9 @@ namespace {
 constexpr SurfaceType kOrder[] = {SurfaceType::Plane, SurfaceType::Cylinder, SurfaceType::Sphere, SurfaceType::Cone,
                                   SurfaceType::Torus};
 
-/// Tries each type on `triangles`; registers and returns true on the first
-/// whose fit every triangle lies on (integrate_region also refuses fits that
-/// a simpler type nearly matches).
-bool try_whole(State& st, const std::vector<index_t>& triangles) {
+}  // namespace
+
+bool fit_patch(State& st, const std::vector<index_t>& triangles) {
   const std::size_t nv = st.vertices_of(triangles).size();
   for (SurfaceType type : kOrder) {
     if (nv < min_vertices(type)) continue;
@@ -34,6 +33,8 @@ bool try_whole(State& st, const std::vector<index_t>& triangles) {
   }
   return false;
 }
+
+namespace {
 
 /// The unassigned triangles within `rings` edge-rings of f, inside `allowed`.
 std::vector<index_t> neighbourhood(const State& st, index_t f, int rings, const std::vector<char>& allowed) {
@@ -60,14 +61,14 @@ void classify_remaining_regions(State& st) {
       connected_components(st, true, [&](index_t f) { return st.triangle_region[f] < 0; });
   std::vector<char> allowed(static_cast<std::size_t>(nf), 0);
   for (const std::vector<index_t>& patch : patches) {
-    if (try_whole(st, patch)) continue;
+    if (fit_patch(st, patch)) continue;
     // A patch of several surfaces: grow from local neighbourhoods.
     for (index_t f : patch) allowed[f] = 1;
     for (index_t f : patch) {
       if (st.triangle_region[f] >= 0) continue;
       for (int rings : {2, 3}) {
         const std::vector<index_t> local = neighbourhood(st, f, rings, allowed);
-        if (try_whole(st, local)) break;
+        if (fit_patch(st, local)) break;
       }
     }
     for (index_t f : patch) allowed[f] = 0;

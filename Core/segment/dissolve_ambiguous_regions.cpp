@@ -5,8 +5,8 @@
 // not real: triangles along them lie on both neighbours' surfaces. Along a
 // real boundary between two CAD faces, even a tangent (G1) one, the surfaces
 // part quadratically and the neighbour's triangles lie off each other's
-// surface. Regions with such a blurred boundary on both sides are dissolved
-// into unknown regions when one of them is also stretched to the tolerance
+// surface. A region with such a blurred boundary on both sides is dissolved
+// into unknown regions when it is also stretched to the tolerance
 // (its fit's rms distance above a fifth of it): a local approximation grows
 // until the tolerance stops it, so its vertices spread over the whole band,
 // while a CAD face fits its vertices to the noise of the mesh, far below
@@ -19,7 +19,30 @@
 namespace femorph {
 namespace segment {
 
-void dissolve_ambiguous_regions(State& st) {
+void absorb_unknown_triangles(State& st) {
+  const SurfaceMesh& s = st.surface;
+  std::vector<index_t> frontier;
+  for (std::size_t r = 0; r < st.regions.size(); ++r) {
+    WorkRegion& region = st.regions[r];
+    if (!region.alive || region.type == SurfaceType::Unknown) continue;
+    frontier = region.triangles;
+    while (!frontier.empty()) {
+      const index_t f = frontier.back();
+      frontier.pop_back();
+      for (int k = 0; k < 3; ++k) {
+        const index_t g = s.neighbors[f][k];
+        if (g < 0) continue;
+        const index_t o = st.triangle_region[g];
+        if (o < 0 || st.regions[o].type != SurfaceType::Unknown || !st.triangle_on(region.surface, g)) continue;
+        st.triangle_region[g] = static_cast<index_t>(r);
+        region.triangles.push_back(g);
+        frontier.push_back(g);
+      }
+    }
+  }
+}
+
+bool dissolve_ambiguous_regions(State& st) {
   const SurfaceMesh& s = st.surface;
   constexpr double kNear = 4.0;
   // (a, b) -> (triangles of a along b, of which on b's surface)
@@ -46,9 +69,11 @@ void dissolve_ambiguous_regions(State& st) {
     const auto back = along.find({pair.second, pair.first});
     if (back == along.end()) continue;
     const bool blurred = c.second >= kBlurred * c.first && back->second.second >= kBlurred * back->second.first;
-    const bool stretched = st.regions[pair.first].fit_rms > kStretched * st.tolerance ||
-                           st.regions[pair.second].fit_rms > kStretched * st.tolerance;
-    if (blurred && stretched) dissolve[pair.first] = dissolve[pair.second] = 1;
+    const bool first_stretched = st.regions[pair.first].fit_rms > kStretched * st.tolerance;
+    const bool second_stretched = st.regions[pair.second].fit_rms > kStretched * st.tolerance;
+    // Only the stretched side goes: a CAD face next to a fragment stays.
+    if (blurred && first_stretched) dissolve[pair.first] = 1;
+    if (blurred && second_stretched) dissolve[pair.second] = 1;
   }
   bool any = false;
   for (std::size_t r = 0; r < st.regions.size(); ++r)
@@ -56,7 +81,34 @@ void dissolve_ambiguous_regions(State& st) {
       st.regions[r].type = SurfaceType::Unknown;
       any = true;
     }
-  if (!any) return;
+  if (!any) return false;
+  // Small fits left among the dissolved ones are fragments too: a region of
+  // fewer than kFragment triangles that borders unknown regions along most of
+  // its boundary, repeated until none is left.
+  constexpr std::size_t kFragment = 30;
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<int> edges(st.regions.size(), 0), unknown_edges(st.regions.size(), 0);
+    for (index_t f = 0; f < s.num_triangles(); ++f) {
+      const index_t a = st.triangle_region[f];
+      if (a < 0) continue;
+      for (int k = 0; k < 3; ++k) {
+        const index_t g = s.neighbors[f][k];
+        if (g < 0 || st.triangle_region[g] == a || st.triangle_region[g] < 0) continue;
+        ++edges[a];
+        unknown_edges[a] += st.regions[st.triangle_region[g]].type == SurfaceType::Unknown;
+      }
+    }
+    for (std::size_t r = 0; r < st.regions.size(); ++r) {
+      WorkRegion& region = st.regions[r];
+      if (!region.alive || region.type == SurfaceType::Unknown || region.triangles.size() >= kFragment) continue;
+      if (edges[r] > 0 && 2 * unknown_edges[r] >= edges[r]) {
+        region.type = SurfaceType::Unknown;
+        changed = true;
+      }
+    }
+  }
+  absorb_unknown_triangles(st);
   // Unknown triangles (dissolved or left unknown before) are regrouped: one
   // region per smooth part, slivers of one or two triangles cut off by a
   // sharp edge joining their neighbour.
@@ -91,11 +143,15 @@ void dissolve_ambiguous_regions(State& st) {
   }
   for (const std::vector<index_t>& part : parts) {
     if (part.empty()) continue;
+    // Once the local fits are gone, the part as a whole may be one surface
+    // (on a fine mesh, strips of a torus fit cylinders within the tolerance).
+    if (fit_patch(st, part)) continue;
     WorkRegion region;
     region.type = SurfaceType::Unknown;
     region.triangles = part;
     add_region(st, std::move(region));
   }
+  return true;
 }
 
 }  // namespace segment

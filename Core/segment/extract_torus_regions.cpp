@@ -61,6 +61,7 @@ void merge_false_regions(State& st) {
 }  // namespace
 
 void extract_torus_regions(State& st) {
+  constexpr std::size_t kMinTorusPart = 12;
   const Curvature& c = st.curvature;
   // Fig. 2.12: neighbouring torus regions have opposite signs of the Gaussian
   // curvature; grow over unassigned triangles of one sign.
@@ -75,7 +76,10 @@ void extract_torus_regions(State& st) {
     for (std::vector<index_t>& part : parts) {
       part.erase(std::remove_if(part.begin(), part.end(), [&](index_t f) { return st.triangle_region[f] >= 0; }),
                  part.end());
-      if (part.size() < 3) continue;
+      // Small pieces are left to classify_remaining_regions, whose whole-patch
+      // fits are cheaper than a torus RANSAC per fragment (fine meshes have
+      // many where the Gaussian curvature changes sign).
+      if (part.size() < kMinTorusPart) continue;
       const std::vector<index_t> vertices = st.vertices_of(part);
       const std::vector<Vec3> dirs = max_directions(st, vertices);
       const FitResult fit = fit_region(st, SurfaceType::Torus, part, &dirs);
@@ -89,8 +93,11 @@ void extract_torus_regions(State& st) {
   // end): a torus region that a sphere fits as well is a sphere.
   for (WorkRegion& region : st.regions) {
     if (!region.alive || region.type != SurfaceType::Torus) continue;
+    if (st.vertices_of(region.triangles).size() < min_vertices(SurfaceType::Torus)) continue;
     const FitResult sphere = fit_region(st, SurfaceType::Sphere, region.triangles);
-    if (!sphere.ok || sphere.max_abs > st.tolerance || !plausible_fit(st, sphere.surface, region.triangles)) continue;
+    if (!sphere.ok || sphere.max_abs > st.tolerance || !plausible_fit(st, sphere.surface, region.triangles) ||
+        simpler_type_fits(st, SurfaceType::Sphere, region.triangles, sphere.max_abs))
+      continue;
     bool all_on = true;
     for (index_t f : region.triangles) all_on = all_on && st.triangle_on(sphere.surface, f);
     if (!all_on) continue;

@@ -155,7 +155,7 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   std::vector<char> evaluated(np, 0);
 
   // Steps 1-2: normal tensor, e1, refined normal.
-#pragma omp parallel if(np >= kParallelMinItems)
+#pragma omp parallel if(np >= kParallelMinHeavyItems)
   {
     std::vector<index_t> ring;
     ring.reserve(64);
@@ -211,7 +211,7 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   //   r = S g + grad C(g)                   (unless j is on a sharp edge)
   //   -z / |g| = (g^T S g / 2 + C(g)) / |g|  (divided by |g| to weigh like r)
   // Lengths scaled by the 1-ring's mean edge length.
-#pragma omp parallel for schedule(dynamic, 256) if(np >= kParallelMinItems)
+#pragma omp parallel for schedule(dynamic, 256) if(np >= kParallelMinHeavyItems)
   for (index_t i = 0; i < np; ++i) {
     if (!evaluated[i]) continue;
     const Vec3& n = c.vertex_normal[i];

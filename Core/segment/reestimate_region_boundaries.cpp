@@ -10,7 +10,9 @@ namespace segment {
 
 void reestimate_region_boundaries(State& st) {
   const SurfaceMesh& s = st.surface;
-  constexpr int kPasses = 4;
+  // Each pass moves the border by about one triangle: enough passes to peel
+  // a strip taken by a neighbouring fit off an exact surface.
+  constexpr int kPasses = 16;
   for (int pass = 0; pass < kPasses; ++pass) {
     int moved = 0;
     for (index_t f = 0; f < s.num_triangles(); ++f) {

@@ -60,7 +60,14 @@ Status segment_surface(const SurfaceMesh& surface, const SegmentationParams& par
   segment::merge_equal_regions(st);
   segment::reestimate_region_boundaries(st);
   segment::merge_equal_regions(st);  // regions the re-estimation left tiny
-  segment::dissolve_ambiguous_regions(st);
+  // Local fits of a surface they are not (freeform faces; on fine meshes,
+  // strips of a torus taken for cylinders) dissolve, the parts are refitted
+  // as a whole, and the real faces take back their triangles.
+  for (int round = 0; round < 3 && segment::dissolve_ambiguous_regions(st); ++round) {
+    segment::reestimate_region_boundaries(st);
+    segment::absorb_unknown_triangles(st);
+    segment::merge_equal_regions(st);
+  }
   out.times.tori = lap();
   if (!report(0.8, "fit refinement")) return aborted;
   segment::refine_region_fits(st);

@@ -90,7 +90,10 @@ FitResult fit_region(const State& st, SurfaceType type, const std::vector<index_
   const std::vector<Vec3> normals = region_normals(st, triangles, vertices);
   RansacParams rp;
   rp.iterations = st.params.ransac_iterations;
-  rp.inlier_tolerance = st.tolerance;
+  // RANSAC models come from three points and their normals, whose errors
+  // put good models a fair part of an edge off: a tolerance as tight as the
+  // growing one finds no consensus on fine meshes. LM then fits exactly.
+  rp.inlier_tolerance = std::max(st.tolerance, 0.2 * st.surface.mean_edge_length);
   rp.max_cone_half_angle = degrees_to_radians(st.params.max_cone_half_angle_deg);
   rp.seed = st.params.random_seed;
   FitResult fit;

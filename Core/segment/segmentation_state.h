@@ -85,6 +85,12 @@ std::size_t min_vertices(SurfaceType type);
 /// ~1e-15 and only the tolerance counts.
 bool simpler_type_fits(const State& state, SurfaceType type, const std::vector<index_t>& triangles, double max_abs);
 
+/// Tries each type on `triangles` (unassigned), simplest first; registers the
+/// first whose fit every triangle lies on (integrate_region also refuses
+/// implausible fits and those a simpler type nearly matches) and returns
+/// true; false if none fits.
+bool fit_patch(State& state, const std::vector<index_t>& triangles);
+
 /// Registers a region: assigns its triangles. Returns its index.
 index_t add_region(State& state, WorkRegion region);
 
@@ -102,7 +108,10 @@ void extract_torus_regions(State& state);        // A14, with the false-region m
 void classify_remaining_regions(State& state);   // beyond the thesis: leftovers get the best-fitting primitive or unknown
 void reestimate_region_boundaries(State& state); // A14 boundary re-estimation, applied to every region border
 void merge_equal_regions(State& state);          // adjacent regions with one surface become one
-void dissolve_ambiguous_regions(State& state);   // freeform faces: patchworks of local fits become unknown
+/// Fitted regions take back the unknown triangles that lie on their surface
+/// (a fragment cut out of a real face), growing over them breadth-first.
+void absorb_unknown_triangles(State& state);
+bool dissolve_ambiguous_regions(State& state);   // freeform faces: patchworks of local fits become unknown; true if any
 void refine_region_fits(State& state);           // A15, Levenberg-Marquardt
 void build_region_graph(const State& state, Segmentation& out);          // adjacency, G0/G1, convexity
 void recognize_boundary_curves(const State& state, Segmentation& out);  // A16
