@@ -1192,7 +1192,6 @@ def fit_plane_nodes(x, n):
 
 def fit_sphere_nodes(x, n):
     c0 = x.mean(axis=0)
-    center, r = None, None
     a = np.column_stack([2.0 * (x - c0), np.ones(len(x))])
     sol, *_ = np.linalg.lstsq(a, np.einsum("ij,ij->i", x - c0, x - c0), rcond=None)
     r2 = sol[3] + sol[:3] @ sol[:3]
@@ -1424,7 +1423,7 @@ def identify_step_faces(points, triangles, cad_face, tets, part_size):
                  "label": f"face {stag} ({gmsh_type})"}
         entry.update(surf)
         entry.update({"primitive_from": source,
-                      "fit_max_deviation": {k: v for k, v in tried.items()},
+                      "fit_max_deviation": tried,
                       "triangle_count": int(len(tris)), "node_count": int(len(nodes)),
                       "area": area, "max_node_distance": dev,
                       "max_node_distance_to_cad_surface": cad_distance})

@@ -51,6 +51,7 @@ vtkFEMorphSegment::vtkFEMorphSegment()
   this->RansacIterations = defaults.ransac_iterations;
   this->RandomSeed = static_cast<int>(defaults.random_seed);
   this->RefineFits = defaults.refine_fits ? 1 : 0;
+  this->AdaptiveTolerance = defaults.adaptive_tolerance ? 1 : 0;
   this->SetNumberOfOutputPorts(3);
 }
 
@@ -68,6 +69,7 @@ void vtkFEMorphSegment::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RansacIterations: " << this->RansacIterations << "\n";
   os << indent << "RandomSeed: " << this->RandomSeed << "\n";
   os << indent << "RefineFits: " << (this->RefineFits ? "On" : "Off") << "\n";
+  os << indent << "AdaptiveTolerance: " << (this->AdaptiveTolerance ? "On" : "Off") << "\n";
 }
 
 //------------------------------------------------------------------------------
@@ -164,6 +166,7 @@ int vtkFEMorphSegment::RequestData(
   params.ransac_iterations = this->RansacIterations;
   params.random_seed = static_cast<std::uint64_t>(this->RandomSeed);
   params.refine_fits = this->RefineFits != 0;
+  params.adaptive_tolerance = this->AdaptiveTolerance != 0;
 
   bool aborted = false;
   femorph::SurfaceMesh surface;

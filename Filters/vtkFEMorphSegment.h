@@ -131,6 +131,20 @@ public:
 
   ///@{
   /**
+   * Tighten the Distance Tolerance to the mesh's own precision, measured on
+   * its planar faces (at most 1e4 times the median node distance to them,
+   * at least 1e-6 of the part size). Keeps region boundaries where faces meet
+   * at a fraction of a degree on meshes whose nodes lie on the CAD surfaces.
+   * Turn off for meshes whose planes are exact but curved faces faceted.
+   * Default on.
+   */
+  vtkSetMacro(AdaptiveTolerance, vtkTypeBool);
+  vtkGetMacro(AdaptiveTolerance, vtkTypeBool);
+  vtkBooleanMacro(AdaptiveTolerance, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
    * Seed of RANSAC's random numbers: the same seed gives the same result.
    * In [0, VTK_INT_MAX]. Default 1.
    */
@@ -169,6 +183,7 @@ protected:
   double ConeAngleTolerance;
   double SphereDirectionAngle;
   double DistanceTolerance;
+  vtkTypeBool AdaptiveTolerance;
   int RansacIterations;
   int RandomSeed;
   vtkTypeBool RefineFits;

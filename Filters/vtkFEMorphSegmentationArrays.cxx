@@ -333,7 +333,8 @@ Status vtkFEMorphSegmentationArrays::WriteToMesh(const femorph::SurfaceMesh& sur
   const std::pair<const char*, double> steps[] = { { "SharpEdges", t.sharp_edges },
     { "Curvature", t.curvature }, { "Planes", t.planes }, { "Cylinders", t.cylinders },
     { "Cones", t.cones }, { "Spheres", t.spheres }, { "Tori", t.tori },
-    { "Refinement", t.refinement }, { "Curves", t.curves }, { "Total", t.total } };
+    { "Remaining", t.remaining }, { "Cleanup", t.cleanup }, { "Refinement", t.refinement },
+    { "Curves", t.curves }, { "Total", t.total } };
   const int numSteps = static_cast<int>(sizeof(steps) / sizeof(steps[0]));
   auto times = NewArray<vtkDoubleArray>(SegmentationTimesName, numSteps, 1);
   for (int k = 0; k < numSteps; ++k)

@@ -59,17 +59,24 @@ void classify_remaining_regions(State& st) {
   const index_t nf = st.surface.num_triangles();
   std::vector<std::vector<index_t>> patches =
       connected_components(st, true, [&](index_t f) { return st.triangle_region[f] < 0; });
-  std::vector<char> allowed(static_cast<std::size_t>(nf), 0);
+  std::vector<char> allowed(static_cast<std::size_t>(nf), 0), tried(static_cast<std::size_t>(nf), 0);
   for (const std::vector<index_t>& patch : patches) {
     if (fit_patch(st, patch)) continue;
-    // A patch of several surfaces: grow from local neighbourhoods.
+    // A patch of several surfaces: grow from local neighbourhoods. A
+    // neighbourhood that fits nothing marks its triangles tried, so the
+    // next seeds start elsewhere (a freeform patch would otherwise cost a
+    // set of fits per triangle).
     for (index_t f : patch) allowed[f] = 1;
     for (index_t f : patch) {
-      if (st.triangle_region[f] >= 0) continue;
+      if (st.triangle_region[f] >= 0 || tried[f]) continue;
+      bool found = false;
+      std::vector<index_t> local;
       for (int rings : {2, 3}) {
-        const std::vector<index_t> local = neighbourhood(st, f, rings, allowed);
-        if (fit_patch(st, local)) break;
+        local = neighbourhood(st, f, rings, allowed);
+        if ((found = fit_patch(st, local))) break;
       }
+      if (!found)
+        for (index_t g : local) tried[g] = 1;
     }
     for (index_t f : patch) allowed[f] = 0;
   }

@@ -14,6 +14,7 @@
 // blurred on a jittered mesh).
 #include "segment/segmentation_state.h"
 
+#include <algorithm>
 #include <map>
 
 namespace femorph {
@@ -49,7 +50,7 @@ bool dissolve_ambiguous_regions(State& st) {
   std::map<std::pair<index_t, index_t>, std::pair<int, int>> along;
   for (index_t f = 0; f < s.num_triangles(); ++f) {
     const index_t a = st.triangle_region[f];
-    if (a < 0 || st.regions[a].type == SurfaceType::Unknown) continue;
+    if (a < 0) continue;
     index_t seen = kInvalidIndex;
     for (int k = 0; k < 3; ++k) {
       const index_t g = s.neighbors[f][k];
@@ -64,13 +65,58 @@ bool dissolve_ambiguous_regions(State& st) {
   }
   constexpr double kBlurred = 0.75;
   constexpr double kStretched = 0.2;
+  constexpr std::size_t kSmallFit = 30;
+  // The mesh's own precision (measured on its planar seeds; at least 1e-12
+  // of the part). A fit a thousand times worse than that approximates
+  // rather than fits: on a mesh whose nodes lie on their CAD surfaces to
+  // 1e-14, a cylinder fitting a strip of a B-spline extrusion to 4e-4 is a
+  // local approximation.
+  const double noise = std::max(st.noise, 1e-12 * st.scale);
+  constexpr double kInexact = 1e3;
+  // Judged robustly: a real face that took a few triangles of a nearly
+  // tangent freeform neighbour still fits most of its vertices exactly, but
+  // those few tilt its least-squares fit. So: refit on the better half of
+  // the vertices, then take the median distance of all of them.
+  std::vector<double> median(st.regions.size(), -1);
+  auto median_distance = [&](const SurfacePrimitive& surface, const std::vector<Vec3>& points) {
+    std::vector<double> d;
+    d.reserve(points.size());
+    for (const Vec3& p : points) d.push_back(distance(surface, p));
+    if (d.empty()) return 0.0;
+    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+    return d[d.size() / 2];
+  };
+  auto stretched = [&](const WorkRegion& r) {
+    const std::size_t i = static_cast<std::size_t>(&r - st.regions.data());
+    if (median[i] < 0) {
+      const std::vector<Vec3> points = st.positions(st.vertices_of(r.triangles));
+      const double m = median_distance(r.surface, points);
+      std::vector<Vec3> better;
+      for (const Vec3& p : points)
+        if (distance(r.surface, p) <= m) better.push_back(p);
+      const FitResult refit =
+          r.type == SurfaceType::Plane ? fit_plane(better, nullptr) : refine_fit_lm(r.surface, better);
+      median[i] = refit.ok ? std::min(m, median_distance(refit.surface, points)) : m;
+    }
+    return median[i] > kStretched * st.tolerance || median[i] > kInexact * noise;
+  };
   std::vector<char> dissolve(st.regions.size(), 0);
   for (const auto& [pair, c] : along) {
+    // A small fit whose surface runs on into an unknown neighbour (that
+    // neighbour's triangles along it lie on it) is a piece of the same
+    // freeform face, e.g. the strongly curved end of an extrusion taken for a
+    // cylinder.
+    if (st.regions[pair.first].type == SurfaceType::Unknown) {
+      WorkRegion& fitted = st.regions[pair.second];
+      if (c.second >= kBlurred * c.first && (stretched(fitted) || fitted.triangles.size() < kSmallFit))
+        dissolve[pair.second] = 1;
+      continue;
+    }
     const auto back = along.find({pair.second, pair.first});
     if (back == along.end()) continue;
     const bool blurred = c.second >= kBlurred * c.first && back->second.second >= kBlurred * back->second.first;
-    const bool first_stretched = st.regions[pair.first].fit_rms > kStretched * st.tolerance;
-    const bool second_stretched = st.regions[pair.second].fit_rms > kStretched * st.tolerance;
+    const bool first_stretched = stretched(st.regions[pair.first]);
+    const bool second_stretched = stretched(st.regions[pair.second]);
     // Only the stretched side goes: a CAD face next to a fragment stays.
     if (blurred && first_stretched) dissolve[pair.first] = 1;
     if (blurred && second_stretched) dissolve[pair.second] = 1;

@@ -8,6 +8,41 @@
 namespace femorph {
 namespace segment {
 
+namespace {
+
+/// The mesh's precision, measured on its planar seeds (the median vertex
+/// distance to their fitted planes, median over seeds weighted by size),
+/// and the tolerance tightened to it when adaptive_tolerance is on.
+void measure_precision(State& st, const std::vector<std::vector<index_t>>& seeds,
+                       const std::vector<FitResult>& fits) {
+  std::vector<std::pair<double, double>> medians;  // (median distance, triangles)
+  double total = 0;
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    if (!fits[i].ok || fits[i].max_abs > st.tolerance || seeds[i].size() < 4) continue;
+    std::vector<double> d;
+    for (index_t v : st.vertices_of(seeds[i])) d.push_back(distance(fits[i].surface, st.surface.points[v]));
+    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+    medians.emplace_back(d[d.size() / 2], static_cast<double>(seeds[i].size()));
+    total += static_cast<double>(seeds[i].size());
+  }
+  if (medians.empty()) return;
+  std::sort(medians.begin(), medians.end());
+  double seen = 0;
+  for (const auto& [m, w] : medians) {
+    seen += w;
+    if (seen >= 0.5 * total) {
+      st.noise = m;
+      break;
+    }
+  }
+  if (!st.params.adaptive_tolerance) return;
+  constexpr double kNoiseFactor = 1e4;
+  constexpr double kMinRelative = 1e-6;
+  st.tolerance = std::min(st.tolerance, std::max(kNoiseFactor * st.noise, kMinRelative * st.scale));
+}
+
+}  // namespace
+
 void extract_planar_regions(State& st) {
   const SurfaceMesh& s = st.surface;
   // Fig. 2.8 (a): the variance (Eq. 2.6) of the unit normals around a vertex
@@ -35,14 +70,32 @@ void extract_planar_regions(State& st) {
   };
   std::vector<std::vector<index_t>> seeds = connected_components(st, true, is_seed);
   std::sort(seeds.begin(), seeds.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  // On fine meshes a seed also holds a band of nearly flat triangles of the
+  // surfaces tangent to the plane (fillets): trim what the fit leaves off and
+  // refit, a few times.
+  std::vector<FitResult> fits(seeds.size());
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    std::vector<index_t>& seed = seeds[i];
+    FitResult fit = fit_region(st, SurfaceType::Plane, seed);
+    for (int trim = 0; trim < 4 && fit.ok && fit.max_abs > st.tolerance; ++trim) {
+      std::vector<index_t> kept;
+      for (index_t f : seed)
+        if (st.triangle_distance(fit.surface, f) <= st.tolerance) kept.push_back(f);
+      if (kept.empty() || kept.size() == seed.size()) break;
+      seed.swap(kept);
+      fit = fit_region(st, SurfaceType::Plane, seed);
+    }
+    fits[i] = fit;
+  }
+  measure_precision(st, seeds, fits);
   // Region integration, largest seed first: fit, grow by distance, refit.
-  for (std::vector<index_t>& seed : seeds) {
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    std::vector<index_t>& seed = seeds[i];
+    if (!fits[i].ok || fits[i].max_abs > st.tolerance) continue;
     seed.erase(std::remove_if(seed.begin(), seed.end(), [&](index_t f) { return st.triangle_region[f] >= 0; }),
                seed.end());
     if (seed.empty()) continue;
-    const FitResult fit = fit_region(st, SurfaceType::Plane, seed);
-    if (!fit.ok || fit.max_abs > st.tolerance) continue;
-    WorkRegion region = integrate_region(st, SurfaceType::Plane, seed, fit);
+    WorkRegion region = integrate_region(st, SurfaceType::Plane, seed, fits[i]);
     if (region.alive) add_region(st, std::move(region));
   }
 }

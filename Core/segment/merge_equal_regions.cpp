@@ -28,6 +28,7 @@ void merge_equal_regions(State& st) {
         pairs.emplace(std::min(a, b), std::max(a, b));
       }
     int merged = 0;
+    std::vector<char> grown(st.regions.size(), 0);
     for (auto [a, b] : pairs) {
       if (!st.regions[a].alive || !st.regions[b].alive) continue;
       if (st.regions[a].triangles.size() < st.regions[b].triangles.size()) std::swap(a, b);
@@ -41,12 +42,14 @@ void merge_equal_regions(State& st) {
       big.triangles.insert(big.triangles.end(), small.triangles.begin(), small.triangles.end());
       small.triangles.clear();
       small.alive = false;
+      grown[a] = 1;
       ++merged;
     }
     if (!merged) break;
     // Refit the grown regions before the next pass.
-    for (WorkRegion& r : st.regions) {
-      if (!r.alive || r.type == SurfaceType::Unknown) continue;
+    for (std::size_t i = 0; i < st.regions.size(); ++i) {
+      WorkRegion& r = st.regions[i];
+      if (!grown[i] || !r.alive || r.type == SurfaceType::Unknown) continue;
       const std::vector<Vec3> points = st.positions(st.vertices_of(r.triangles));
       const FitResult fit = r.type == SurfaceType::Plane ? fit_plane(points, nullptr) : refine_fit_lm(r.surface, points);
       if (fit.ok) {

@@ -5,17 +5,39 @@
 // tangent line lies within tolerance of both surfaces).
 #include "segment/segmentation_state.h"
 
+#include <algorithm>
+
 namespace femorph {
 namespace segment {
 
 void reestimate_region_boundaries(State& st) {
   const SurfaceMesh& s = st.surface;
-  // Each pass moves the border by about one triangle: enough passes to peel
-  // a strip taken by a neighbouring fit off an exact surface.
-  constexpr int kPasses = 16;
-  for (int pass = 0; pass < kPasses; ++pass) {
-    int moved = 0;
-    for (index_t f = 0; f < s.num_triangles(); ++f) {
+  const index_t nf = s.num_triangles();
+  // Work lists of border triangles only: a move changes the border around
+  // the moved triangle, so its neighbours are the next candidates. Moving a
+  // border by one triangle per round, this peels a strip that a neighbouring
+  // fit took off an exact surface.
+  constexpr int kMaxRounds = 64;
+  std::vector<index_t> candidates, next;
+  std::vector<char> queued(static_cast<std::size_t>(nf), 0);
+  std::vector<index_t> size(st.regions.size(), 0);
+  for (index_t f = 0; f < nf; ++f) {
+    const index_t r = st.triangle_region[f];
+    if (r < 0) continue;
+    ++size[r];
+    for (int k = 0; k < 3; ++k) {
+      const index_t g = s.neighbors[f][k];
+      if (g >= 0 && st.triangle_region[g] != r) {
+        candidates.push_back(f);
+        break;
+      }
+    }
+  }
+  bool any = false;
+  for (int round = 0; round < kMaxRounds && !candidates.empty(); ++round) {
+    next.clear();
+    for (index_t f : candidates) queued[f] = 0;
+    for (index_t f : candidates) {
       const index_t own = st.triangle_region[f];
       if (own < 0) continue;
       const WorkRegion& mine = st.regions[own];
@@ -38,17 +60,27 @@ void reestimate_region_boundaries(State& st) {
       }
       if (best == own) continue;
       // Do not empty a fitted region (an unknown one may vanish).
-      if (mine.type != SurfaceType::Unknown && mine.triangles.size() <= 1) continue;
+      if (mine.type != SurfaceType::Unknown && size[own] <= 1) continue;
       st.triangle_region[f] = best;
-      ++moved;
+      --size[own];
+      ++size[best];
+      any = true;
+      for (int k = 0; k < 3; ++k) {
+        const index_t g = s.neighbors[f][k];
+        if (g >= 0 && !queued[g]) {
+          queued[g] = 1;
+          next.push_back(g);
+        }
+      }
     }
-    // Rebuild the triangle lists from the assignment.
-    for (WorkRegion& r : st.regions) r.triangles.clear();
-    for (index_t f = 0; f < s.num_triangles(); ++f)
-      if (st.triangle_region[f] >= 0) st.regions[st.triangle_region[f]].triangles.push_back(f);
-    for (WorkRegion& r : st.regions) r.alive = r.alive && !r.triangles.empty();
-    if (!moved) break;
+    candidates.swap(next);
   }
+  if (!any) return;
+  // Rebuild the triangle lists from the assignment.
+  for (WorkRegion& r : st.regions) r.triangles.clear();
+  for (index_t f = 0; f < nf; ++f)
+    if (st.triangle_region[f] >= 0) st.regions[st.triangle_region[f]].triangles.push_back(f);
+  for (WorkRegion& r : st.regions) r.alive = r.alive && !r.triangles.empty();
 }
 
 }  // namespace segment

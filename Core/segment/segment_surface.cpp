@@ -56,19 +56,24 @@ Status segment_surface(const SurfaceMesh& surface, const SegmentationParams& par
   out.times.spheres = lap();
   if (!report(0.65, "torus regions")) return aborted;
   segment::extract_torus_regions(st);
+  out.times.tori = lap();
   segment::classify_remaining_regions(st);
+  out.times.remaining = lap();
   segment::merge_equal_regions(st);
   segment::reestimate_region_boundaries(st);
   segment::merge_equal_regions(st);  // regions the re-estimation left tiny
   // Local fits of a surface they are not (freeform faces; on fine meshes,
   // strips of a torus taken for cylinders) dissolve, the parts are refitted
   // as a whole, and the real faces take back their triangles.
-  for (int round = 0; round < 3 && segment::dissolve_ambiguous_regions(st); ++round) {
+  // A chain of local fits (an extrusion cut into cylinder strips) goes one
+  // link per round, from the dissolved side.
+  constexpr int kMaxDissolveRounds = 16;
+  for (int round = 0; round < kMaxDissolveRounds && segment::dissolve_ambiguous_regions(st); ++round) {
     segment::reestimate_region_boundaries(st);
     segment::absorb_unknown_triangles(st);
     segment::merge_equal_regions(st);
   }
-  out.times.tori = lap();
+  out.times.cleanup = lap();
   if (!report(0.8, "fit refinement")) return aborted;
   segment::refine_region_fits(st);
   out.times.refinement = lap();

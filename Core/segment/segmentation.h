@@ -32,6 +32,13 @@ struct SegmentationParams {
   /// times the mean edge length. Meshes whose nodes are not exactly on the
   /// CAD surfaces (remeshed, exported with few digits) need more, e.g. 0.05.
   double distance_tolerance = 1e-2;
+  /// Tighten the distance tolerance to the mesh's own precision, measured on
+  /// its planar faces: on a mesh whose nodes lie on the CAD surfaces to 1e-14,
+  /// the tolerance becomes max(1e4 x that, 1e-6 of the part) if smaller.
+  /// Region boundaries then hold even where faces meet at a fraction of a
+  /// degree. Turn off for meshes whose planes are exact but whose curved
+  /// faces are not (a faceted or remeshed part).
+  bool adaptive_tolerance = true;
   /// RANSAC (cones, spheres, tori): iterations and seed (deterministic).
   int ransac_iterations = 500;
   std::uint64_t random_seed = 1;
@@ -75,6 +82,8 @@ struct BoundaryCurve {
 /// Wall time of each step, seconds (thesis Table 2.9).
 struct SegmentationTimes {
   double sharp_edges = 0, curvature = 0, planes = 0, cylinders = 0, cones = 0, spheres = 0, tori = 0,
+         remaining = 0,  // beyond the thesis: fits of what no seed reached
+         cleanup = 0,    // merges, boundary re-estimation, dissolving local fits
          refinement = 0, curves = 0, total = 0;
 };
 

@@ -9,12 +9,24 @@ namespace femorph {
 namespace segment {
 
 std::vector<index_t> State::vertices_of(const std::vector<index_t>& triangles) const {
+  if (vertex_mark_.size() != surface.points.size()) {
+    vertex_mark_.assign(surface.points.size(), 0);
+    vertex_slot_.assign(surface.points.size(), kInvalidIndex);
+    mark_ = 0;
+  }
+  if (++mark_ == 0) {
+    std::fill(vertex_mark_.begin(), vertex_mark_.end(), 0);
+    mark_ = 1;
+  }
   std::vector<index_t> v;
-  v.reserve(3 * triangles.size());
+  v.reserve(triangles.size() / 2 + 3);
   for (index_t f : triangles)
-    for (index_t w : surface.triangles[f]) v.push_back(w);
-  std::sort(v.begin(), v.end());
-  v.erase(std::unique(v.begin(), v.end()), v.end());
+    for (index_t w : surface.triangles[f])
+      if (vertex_mark_[w] != mark_) {
+        vertex_mark_[w] = mark_;
+        vertex_slot_[w] = static_cast<index_t>(v.size());
+        v.push_back(w);
+      }
   return v;
 }
 
@@ -68,12 +80,10 @@ namespace {
 /// edge or a region border only the region's own side counts.
 std::vector<Vec3> region_normals(const State& st, const std::vector<index_t>& triangles,
                                  const std::vector<index_t>& vertices) {
+  // `vertices` comes from vertices_of(triangles): slot() maps back.
   std::vector<Vec3> n(vertices.size(), Vec3::Zero());
   for (index_t f : triangles)
-    for (index_t w : st.surface.triangles[f]) {
-      const auto it = std::lower_bound(vertices.begin(), vertices.end(), w);
-      n[it - vertices.begin()] += st.surface.areas[f] * st.surface.normals[f];
-    }
+    for (index_t w : st.surface.triangles[f]) n[st.slot(w)] += st.surface.areas[f] * st.surface.normals[f];
   for (Vec3& v : n) {
     const double len = v.norm();
     if (len > 0) v /= len;
@@ -165,7 +175,13 @@ WorkRegion integrate_region(const State& st, SurfaceType type, const std::vector
       }
     }
     // Refit on the grown region: exact least squares for planes, LM from the
-    // current surface for the others.
+    // current surface for the others. A growth of under 2% cannot move the
+    // fit enough to matter: keep it (large regions would pay an LM each).
+    const std::size_t added = region.triangles.size() - before;
+    if (round > 0 && added * 50 < region.triangles.size()) {
+      if (added == 0) break;
+      continue;
+    }
     const std::vector<index_t> vertices = st.vertices_of(region.triangles);
     const std::vector<Vec3> points = st.positions(vertices);
     FitResult refit = type == SurfaceType::Plane ? fit_plane(points, nullptr) : refine_fit_lm(region.surface, points);

@@ -33,12 +33,25 @@ struct State {
   double tolerance = 0;
   /// A length of the part (bounding box diagonal), for relative comparisons.
   double scale = 1;
+  /// The mesh's precision: median distance of planar seed vertices to their
+  /// planes (0 until measured by extract_planar_regions).
+  double noise = 0;
   std::vector<std::string> warnings;
 
   State(const SurfaceMesh& s, const SegmentationParams& p) : surface(s), params(p) {}
 
-  /// Distinct vertices of a triangle set.
+ private:
+  // Marks for vertices_of: linear time, no sort (it runs on every fit).
+  mutable std::vector<std::uint32_t> vertex_mark_;
+  mutable std::vector<index_t> vertex_slot_;
+  mutable std::uint32_t mark_ = 0;
+
+ public:
+
+  /// Distinct vertices of a triangle set, in order of first appearance.
+  /// After the call, slot(v) is v's position in the result (until the next).
   std::vector<index_t> vertices_of(const std::vector<index_t>& triangles) const;
+  index_t slot(index_t v) const { return vertex_slot_[v]; }
   /// Positions (and vertex normals) of vertices.
   std::vector<Vec3> positions(const std::vector<index_t>& vertices) const;
   std::vector<Vec3> normals(const std::vector<index_t>& vertices) const;

@@ -138,7 +138,8 @@ Row run_part(const std::string& vtu, const std::string& name, int repeats, bool 
   grid->GetBounds(b);
   const double scale = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
 
-  std::vector<double> t_extract, t_total, t_sharp, t_curv, t_planes, t_cyl, t_cones, t_spheres, t_tori, t_refine, t_curves;
+  std::vector<double> t_extract, t_total, t_sharp, t_curv, t_planes, t_cyl, t_cones, t_spheres, t_tori, t_remaining,
+      t_cleanup, t_refine, t_curves;
   femorph::SurfaceMesh surface;
   femorph::Segmentation seg;
   for (int r = 0; r < repeats; ++r) {
@@ -160,6 +161,8 @@ Row run_part(const std::string& vtu, const std::string& name, int repeats, bool 
     t_cones.push_back(T.cones);
     t_spheres.push_back(T.spheres);
     t_tori.push_back(T.tori);
+    t_remaining.push_back(T.remaining);
+    t_cleanup.push_back(T.cleanup);
     t_refine.push_back(T.refinement);
     t_curves.push_back(T.curves);
   }
@@ -173,6 +176,8 @@ Row run_part(const std::string& vtu, const std::string& name, int repeats, bool 
   row.times.cones = median(t_cones);
   row.times.spheres = median(t_spheres);
   row.times.tori = median(t_tori);
+  row.times.remaining = median(t_remaining);
+  row.times.cleanup = median(t_cleanup);
   row.times.refinement = median(t_refine);
   row.times.curves = median(t_curves);
   for (const femorph::Region& r : seg.regions) ++row.found[static_cast<int>(r.type)];
@@ -279,14 +284,15 @@ int main(int argc, char** argv) {
   }
 
   std::printf("\nPer-step times in ms (thesis Table 2.9 layout)\n");
-  std::printf("%-18s %8s %7s %6s %6s %6s %6s %6s %6s %6s %6s %6s %8s %10s\n", "part", "tris", "extract", "sharp",
-              "curv", "planes", "cyl", "cones", "sphere", "tori", "refine", "curves", "total", "tris/s");
+  std::printf("%-18s %8s %7s %6s %6s %6s %6s %6s %6s %6s %6s %7s %6s %6s %8s %10s\n", "part", "tris", "extract",
+              "sharp", "curv", "planes", "cyl", "cones", "sphere", "tori", "remain", "cleanup", "refine", "curves",
+              "total", "tris/s");
   for (const Row& r : rows) {
     const auto& T = r.times;
-    std::printf("%-18s %8d %7.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %8.1f %10.0f\n", r.name.c_str(),
-                r.triangles, 1e3 * r.extract, 1e3 * T.sharp_edges, 1e3 * T.curvature, 1e3 * T.planes, 1e3 * T.cylinders,
-                1e3 * T.cones, 1e3 * T.spheres, 1e3 * T.tori, 1e3 * T.refinement, 1e3 * T.curves, 1e3 * r.total,
-                r.triangles / r.total);
+    std::printf("%-18s %8d %7.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %7.1f %6.1f %6.1f %8.1f %10.0f\n",
+                r.name.c_str(), r.triangles, 1e3 * r.extract, 1e3 * T.sharp_edges, 1e3 * T.curvature, 1e3 * T.planes,
+                1e3 * T.cylinders, 1e3 * T.cones, 1e3 * T.spheres, 1e3 * T.tori, 1e3 * T.remaining, 1e3 * T.cleanup,
+                1e3 * T.refinement, 1e3 * T.curves, 1e3 * r.total, r.triangles / r.total);
   }
   std::printf("\nPrimitives found, plane/cylinder/cone/sphere/torus(+unknown); CAD faces split over regions\n");
   std::printf("%-18s %14s %14s %6s %14s %9s %9s %9s\n", "part", "truth", "FEMorph", "split", "CGAL", "CGAL s",

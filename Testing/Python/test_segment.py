@@ -34,7 +34,7 @@ import numpy as np
 from paraview import servermanager
 from paraview.simple import LoadPlugin, XMLUnstructuredGridReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import VTK_POLY_LINE, VTK_TETRA, VTK_TRIANGLE
+from vtkmodules.vtkCommonDataModel import VTK_LINE, VTK_POLY_LINE, VTK_TETRA, VTK_TRIANGLE
 
 COLUMNS = ["RegionId", "TypeName", "Radius", "MajorRadius", "MinorRadius", "HalfAngle", "Axis",
            "Center", "Apex", "Normal", "Point", "Area", "Convexity", "TriangleCount",
@@ -57,7 +57,8 @@ NUMERIC = ["Radius", "MajorRadius", "MinorRadius", "HalfAngle", "Axis", "Center"
            "Normal", "Point"]
 DEFAULTS = {"SharpAngle": 30.0, "CylinderAngleTolerance": 1.5, "ConeAngleTolerance": 0.8,
             "SphereDirectionAngle": 60.0, "DistanceTolerance": 0.01, "RansacIterations": 500,
-            "RandomSeed": 1, "RefineFits": 1}
+            "RandomSeed": 1, "RefineFits": 1,
+            "AdaptiveTolerance": 1}
 
 # Points where three or more curves meet, by part (the .json does not list them).
 CORNERS = {"boss_block": 8}
@@ -164,7 +165,7 @@ def describe(row):
                                 else row[k]) for k in keep)
 
 
-def check_table(rows, part, overlap):
+def check_table(rows, part, overlap, edge):
     """overlap[tag][region]: how many triangles of CAD face `tag` the
     segmentation put in `region`."""
     faces = part["faces"]
@@ -241,6 +242,12 @@ def check_table(rows, part, overlap):
         tags = sorted(set(curve["surfaces"]))
         if len(tags) == 2 and not curve["degenerate"]:
             a, b = match[tags[0]], match[tags[1]]
+            if curve["length"] < edge and b not in neighbors[a]:
+                # A curve shorter than a mesh edge is one edge of the mesh at
+                # most: below what the segmentation resolves (documented).
+                print("  curve %d between faces %d and %d (length %.3g < edge %.3g) not resolved"
+                      % (curve["tag"], tags[0], tags[1], curve["length"], edge))
+                continue
             check(b in neighbors[a], "regions %d and %d (CAD faces %d, %d) are not neighbours" % (
                 a, b, tags[0], tags[1]))
     return match
@@ -360,8 +367,20 @@ def check_mesh(mesh, grid, rows, part):
         if name not in CURVE_CODES:
             continue
         slack = trimmed if name == "Circle" else 0
-        check(count <= found.get(name, 0) <= count + slack, "%d %s curves, the part has %d%s" % (
-            found.get(name, 0), name, count, " (+%d trimmed)" % slack if slack else ""))
+        if name == "Line":
+            # A B-spline curve may be straight (a plane cutting an extruded
+            # freeform face), and is then recognised as a line.
+            slack = sum(1 for c in part["curves"] if c["gmsh_type"] == "BSpline" and
+                        len(set(c["surfaces"])) == 2 and not c["degenerate"])
+        # Curves of one type between the same two faces (a circle cut at a
+        # seam into two arcs) may come out as one.
+        of_type = [tuple(sorted(set(c["surfaces"]))) for c in part["curves"]
+                   if c["gmsh_type"] == name and not c["degenerate"]]
+        split = len(of_type) - len(set(of_type))
+        check(count - split <= found.get(name, 0) <= count + slack,
+              "%d %s curves, the part has %d%s%s" % (
+                  found.get(name, 0), name, count, " (+%d trimmed or B-spline)" % slack if slack else "",
+                  " (-%d seam splits)" % split if split else ""))
     # OpenCASCADE splits a closed curve at a seam vertex into several; the
     # segmentation sees one loop. So: at most the CAD's count, at least one
     # per pair of adjacent faces.
@@ -422,7 +441,8 @@ def check_surface(surface, mesh, rows, face_region, tets, curves):
                   "triangle %d has curve ids" % c)
             polys += 1
         else:
-            check(cell_type == VTK_POLY_LINE, "cell %d has type %d" % (c, cell_type))
+            # vtkPolyData calls a two-point line VTK_LINE.
+            check(cell_type in (VTK_POLY_LINE, VTK_LINE), "cell %d has type %d" % (c, cell_type))
             k = arrays["CurveId"][c]
             check(0 <= k < n_curves and arrays["CurveType"][c] == curve_type[k],
                   "line %d: CurveId %d" % (c, k))
@@ -495,7 +515,11 @@ def main():
     for tag, region in zip(cad_face[cad_face >= 0], face_region[cad_face >= 0]):
         counts = overlap.setdefault(int(tag), {})
         counts[int(region)] = counts.get(int(region), 0) + 1
-    check_table(rows, part, overlap)
+    points = vtk_to_numpy(grid.GetPoints().GetData())
+    tet_points = points[vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 4)]
+    mean_edge = np.mean([np.linalg.norm(tet_points[:, i] - tet_points[:, j], axis=1).mean()
+                         for i in range(4) for j in range(i + 1, 4)])
+    check_table(rows, part, overlap, mean_edge)
     face_region, tets, *curves = check_mesh(mesh, grid, rows, part)
     check_surface(surface, mesh, rows, face_region, tets, curves)
 

@@ -115,6 +115,7 @@ TEST(Segment, DefaultsAreTheCoreDefaultsAndClamped)
   EXPECT_EQ(segment->GetRansacIterations(), core.ransac_iterations);
   EXPECT_EQ(static_cast<std::uint64_t>(segment->GetRandomSeed()), core.random_seed);
   EXPECT_EQ(segment->GetRefineFits() != 0, core.refine_fits);
+  EXPECT_EQ(segment->GetAdaptiveTolerance() != 0, core.adaptive_tolerance);
   // Thesis ranges (2.4.3.2) hold for the defaults.
   EXPECT_GE(segment->GetCylinderAngleTolerance(), 1.0);
   EXPECT_LE(segment->GetCylinderAngleTolerance(), 1.5);
@@ -147,11 +148,13 @@ TEST(Segment, PrintSelfListsEveryProperty)
   segment->SetRansacIterations(321);
   segment->SetRandomSeed(7);
   segment->RefineFitsOff();
+  segment->AdaptiveToleranceOff();
   std::ostringstream os;
   segment->PrintSelf(os, vtkIndent());
   for (const char* name : { "SharpAngle: 31.5", "CylinderAngleTolerance: 1.25",
          "ConeAngleTolerance: 0.5", "SphereDirectionAngle: 55", "DistanceTolerance: 0.0625",
-         "RansacIterations: 321", "RandomSeed: 7", "RefineFits: Off" })
+         "RansacIterations: 321", "RandomSeed: 7", "RefineFits: Off",
+         "AdaptiveTolerance: Off" })
   {
     EXPECT_NE(os.str().find(name), std::string::npos) << name << " not in\n" << os.str();
   }
@@ -379,6 +382,7 @@ TEST(Segment, XmlDefaultsEqualCxxDefaults)
       { double(d->GetRandomSeed()), double(d->GetRandomSeedMinValue()),
         double(d->GetRandomSeedMaxValue()), true } },
     { "SetRefineFits", { double(d->GetRefineFits()), 0, 1, true } },
+    { "SetAdaptiveTolerance", { double(d->GetAdaptiveTolerance()), 0, 1, true } },
   };
   std::set<std::string> seen;
   for (int i = 0; i < proxy->GetNumberOfNestedElements(); ++i)

@@ -421,11 +421,11 @@ void CheckMeshArrays(vtkUnstructuredGrid* out, const Fixture& f)
   vtkDataArray* times = FieldArray(out, Arrays::SegmentationTimesName);
   ASSERT_NE(times, nullptr);
   ASSERT_EQ(times->GetNumberOfTuples(), 1);
-  ASSERT_EQ(times->GetNumberOfComponents(), 10);
+  ASSERT_EQ(times->GetNumberOfComponents(), 12);
   EXPECT_STREQ(times->GetComponentName(0), "SharpEdges");
-  EXPECT_STREQ(times->GetComponentName(9), "Total");
+  EXPECT_STREQ(times->GetComponentName(11), "Total");
   EXPECT_EQ(times->GetComponent(0, 0), 0.5);
-  EXPECT_EQ(times->GetComponent(0, 9), 7.25);
+  EXPECT_EQ(times->GetComponent(0, 11), 7.25);
 }
 
 // ReadFromMesh() returns what was written.
