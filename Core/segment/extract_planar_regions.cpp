@@ -74,9 +74,9 @@ void extract_planar_regions(State& st) {
   // surfaces tangent to the plane (fillets): trim what the fit leaves off and
   // refit, a few times.
   std::vector<FitResult> fits(seeds.size());
-  for (std::size_t i = 0; i < seeds.size(); ++i) {
+  auto trim_and_fit = [&](std::size_t i) {
     std::vector<index_t>& seed = seeds[i];
-    FitResult fit = fit_region(st, SurfaceType::Plane, seed);
+    FitResult fit = fits[i].ok ? fits[i] : fit_region(st, SurfaceType::Plane, seed);
     for (int trim = 0; trim < 4 && fit.ok && fit.max_abs > st.tolerance; ++trim) {
       std::vector<index_t> kept;
       for (index_t f : seed)
@@ -86,8 +86,13 @@ void extract_planar_regions(State& st) {
       fit = fit_region(st, SurfaceType::Plane, seed);
     }
     fits[i] = fit;
-  }
+  };
+  for (std::size_t i = 0; i < seeds.size(); ++i) trim_and_fit(i);
+  // The tolerance tightened to the mesh's precision trims the seeds again.
+  const double before = st.tolerance;
   measure_precision(st, seeds, fits);
+  if (st.tolerance < before)
+    for (std::size_t i = 0; i < seeds.size(); ++i) trim_and_fit(i);
   // Region integration, largest seed first: fit, grow by distance, refit.
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     std::vector<index_t>& seed = seeds[i];
