@@ -9,6 +9,7 @@ are Debian packages that a pyenv python cannot see):
         [--target-boundary-triangles 200000]
     /usr/bin/python3 Data/generate_parts.py --step part.step [--step ...] \
         --out-dir /tmp/parts [--mesh-size H]
+    /usr/bin/python3 Data/generate_parts.py --hex [--out-dir Data]
 
 For every part it writes <name>.vtu (tets, CAD face labels per tet face, CAD
 entity of every node) and <name>.json (construction dimensions, mesh options,
@@ -24,6 +25,11 @@ in Gmsh's tag order. Data/README.md describes the file formats.
 given number of boundary triangles (mesh sizes scaled; a coarser inside),
 for benchmarks; it is not kept in Data/. Its surface mesh is deterministic,
 its tets (Gmsh's HXT algorithm) vary slightly between runs.
+
+--hex writes only the all-hexahedral parts, hex/<name>.vtu/.json under the
+output folder: a tet mesh of a CAD part, each tet split into four hexahedra
+by Gmsh's subdivision (an unstructured hex mesh, for Hex To Tet, thesis 4.4).
+They are also written by a run without options.
 
 --step meshes STEP files made by others (e.g. shared/realparts) the same way
 and writes <stem>.vtu/.json with the same arrays. The JSON's faces carry
@@ -46,8 +52,7 @@ import gmsh
 sys.path.append("/usr/lib/python3/dist-packages")
 try:
     from vtkmodules.vtkCommonCore import vtkPoints
-    from vtkmodules.vtkCommonDataModel import (VTK_TETRA, vtkCellArray,
-                                               vtkUnstructuredGrid)
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkUnstructuredGrid
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
     from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
     HAVE_VTK = True
@@ -57,6 +62,9 @@ except ImportError:  # fall back to writing the XML ourselves
 VTK_TETRA_TYPE = 10
 GMSH_TET = 4        # Gmsh element type: 4-node tetrahedron
 GMSH_TRIANGLE = 2   # Gmsh element type: 3-node triangle
+GMSH_QUAD = 3       # Gmsh element type: 4-node quadrangle
+GMSH_HEX = 5        # Gmsh element type: 8-node hexahedron (VTK's node order)
+VTK_HEXAHEDRON_TYPE = 12
 
 # Gmsh surface type -> FEMorph primitive name (DESIGN.md "RegionType" codes).
 PRIMITIVE_OF_GMSH_TYPE = {
@@ -730,6 +738,29 @@ def signed_volumes(points, tets):
     return np.einsum("ij,ij->i", p1 - p0, np.cross(p2 - p0, p3 - p0)) / 6.0
 
 
+def classify_nodes(used):
+    """Per node of `used` (sorted Gmsh tags): the dimension and tag of the
+    entity it is classified on (its own, not its closure), from the
+    lowest-dimensional entity up."""
+    entity_dim = np.full(len(used), -1, dtype=np.int32)
+    entity_tag = np.full(len(used), -1, dtype=np.int32)
+    for dim in range(4):
+        for _, tag in gmsh.model.getEntities(dim):
+            ntags, _, _ = gmsh.model.mesh.getNodes(dim, tag, includeBoundary=False,
+                                                   returnParametricCoord=False)
+            ntags = np.asarray(ntags, dtype=np.int64)
+            idx = np.searchsorted(used, ntags)
+            keep = idx < len(used)
+            keep[keep] = used[idx[keep]] == ntags[keep]  # nodes no cell uses are skipped
+            idx = idx[keep]
+            assert len(np.unique(idx)) == len(idx) and np.all(entity_dim[idx] == -1), (
+                f"node classified twice (entity {dim}, {tag})")
+            entity_dim[idx] = dim
+            entity_tag[idx] = tag
+    assert np.all(entity_dim >= 0), "unclassified node"
+    return entity_dim, entity_tag
+
+
 def extract_mesh():
     """Tets, boundary triangles per surface and node classification from the
     current Gmsh model, renumbered to 0-based over the nodes the tets use."""
@@ -769,24 +800,7 @@ def extract_mesh():
     vol6 = signed_volumes(points, tets)
     assert np.all(vol6 > 0), "non-positive tet volume after orientation fix"
 
-    # Node classification: the entity a node is classified on (its own, not
-    # its closure), from the lowest-dimensional entity up.
-    entity_dim = np.full(len(used), -1, dtype=np.int32)
-    entity_tag = np.full(len(used), -1, dtype=np.int32)
-    for dim in range(4):
-        for _, tag in gmsh.model.getEntities(dim):
-            ntags, _, _ = gmsh.model.mesh.getNodes(dim, tag, includeBoundary=False,
-                                                   returnParametricCoord=False)
-            ntags = np.asarray(ntags, dtype=np.int64)
-            idx = np.searchsorted(used, ntags)
-            keep = idx < len(used)
-            keep[keep] = used[idx[keep]] == ntags[keep]  # nodes no tet uses are skipped
-            idx = idx[keep]
-            assert len(np.unique(idx)) == len(idx) and np.all(entity_dim[idx] == -1), (
-                f"node classified twice (entity {dim}, {tag})")
-            entity_dim[idx] = dim
-            entity_tag[idx] = tag
-    assert np.all(entity_dim >= 0), "unclassified node"
+    entity_dim, entity_tag = classify_nodes(used)
 
     # Boundary triangles per surface.
     triangles = {}
@@ -911,11 +925,11 @@ def describe_curves(part_size):
 # Writers
 # ----------------------------------------------------------------------------
 
-def write_vtu(path, points, tets, cad_face, entity_dim, entity_tag):
+def write_vtu(path, points, tets, cad_face, entity_dim, entity_tag, cell_type=VTK_TETRA_TYPE):
     if HAVE_VTK:
-        write_vtu_vtk(path, points, tets, cad_face, entity_dim, entity_tag)
+        write_vtu_vtk(path, points, tets, cad_face, entity_dim, entity_tag, cell_type)
     else:
-        write_vtu_ascii(path, points, tets, cad_face, entity_dim, entity_tag)
+        write_vtu_ascii(path, points, tets, cad_face, entity_dim, entity_tag, cell_type)
 
 
 def int_array(name, values, components=1):
@@ -925,18 +939,21 @@ def int_array(name, values, components=1):
     return arr
 
 
-def write_vtu_vtk(path, points, tets, cad_face, entity_dim, entity_tag):
+def write_vtu_vtk(path, points, tets, cad_face, entity_dim, entity_tag,
+                  cell_type=VTK_TETRA_TYPE):
+    """`tets`: the cells, one row each, all of VTK type `cell_type`;
+    `cad_face`: one component per cell face."""
     grid = vtkUnstructuredGrid()
     pts = vtkPoints()
     pts.SetDataTypeToDouble()
     pts.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64), deep=1))
     grid.SetPoints(pts)
-    n = len(tets)
-    conn = np.hstack([np.full((n, 1), 4, dtype=np.int64), tets.astype(np.int64)]).ravel()
+    n, k = tets.shape
+    conn = np.hstack([np.full((n, 1), k, dtype=np.int64), tets.astype(np.int64)]).ravel()
     cells = vtkCellArray()
     cells.SetCells(n, numpy_to_vtkIdTypeArray(conn, deep=1))
-    grid.SetCells(VTK_TETRA, cells)
-    grid.GetCellData().AddArray(int_array("CADFace", cad_face.reshape(-1), 4))
+    grid.SetCells(cell_type, cells)
+    grid.GetCellData().AddArray(int_array("CADFace", cad_face.reshape(-1), cad_face.shape[1]))
     grid.GetPointData().AddArray(int_array("CADEntityDim", entity_dim))
     grid.GetPointData().AddArray(int_array("CADEntityTag", entity_tag))
     w = vtkXMLUnstructuredGridWriter()
@@ -948,11 +965,12 @@ def write_vtu_vtk(path, points, tets, cad_face, entity_dim, entity_tag):
     assert w.Write() == 1, f"VTK could not write {path}"
 
 
-def write_vtu_ascii(path, points, tets, cad_face, entity_dim, entity_tag):
+def write_vtu_ascii(path, points, tets, cad_face, entity_dim, entity_tag,
+                    cell_type=VTK_TETRA_TYPE):
     def rows(a, fmt):
         return "\n".join(" ".join(fmt % v for v in r) for r in np.atleast_2d(a))
 
-    n = len(tets)
+    n, k = tets.shape
     with open(path, "w") as f:
         f.write('<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="1.0" '
                 'byte_order="LittleEndian" header_type="UInt64">\n<UnstructuredGrid>\n')
@@ -962,16 +980,17 @@ def write_vtu_ascii(path, points, tets, cad_face, entity_dim, entity_tag):
             f.write(f'<DataArray type="Int32" Name="{name}" format="ascii">\n')
             f.write(rows(a.reshape(-1, 1), "%d") + "\n</DataArray>\n")
         f.write('</PointData>\n<CellData>\n')
-        f.write('<DataArray type="Int32" Name="CADFace" NumberOfComponents="4" format="ascii">\n')
+        f.write(f'<DataArray type="Int32" Name="CADFace" NumberOfComponents="{cad_face.shape[1]}" '
+                'format="ascii">\n')
         f.write(rows(cad_face, "%d") + "\n</DataArray>\n</CellData>\n")
         f.write('<Points>\n<DataArray type="Float64" NumberOfComponents="3" format="ascii">\n')
         f.write(rows(points, "%.17g") + "\n</DataArray>\n</Points>\n<Cells>\n")
         f.write('<DataArray type="Int64" Name="connectivity" format="ascii">\n')
         f.write(rows(tets, "%d") + "\n</DataArray>\n")
         f.write('<DataArray type="Int64" Name="offsets" format="ascii">\n')
-        f.write(rows((np.arange(1, n + 1) * 4).reshape(-1, 1), "%d") + "\n</DataArray>\n")
+        f.write(rows((np.arange(1, n + 1) * k).reshape(-1, 1), "%d") + "\n</DataArray>\n")
         f.write('<DataArray type="UInt8" Name="types" format="ascii">\n')
-        f.write(rows(np.full((n, 1), VTK_TETRA_TYPE), "%d") + "\n</DataArray>\n")
+        f.write(rows(np.full((n, 1), cell_type), "%d") + "\n</DataArray>\n")
         f.write('</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n')
 
 
@@ -1547,6 +1566,170 @@ def generate_step(path, out_dir, mesh_size=None):
     return info
 
 
+# ----------------------------------------------------------------------------
+# All-hexahedral parts (--hex): for Hex To Tet (thesis 4.4), an unstructured
+# hex mesh of a CAD part. Gmsh meshes it with tets and splits each tet into
+# four hexahedra (Mesh.SubdivisionAlgorithm 2: corners at a tet vertex, three
+# edge midpoints, three face centres and the tet centre), so node valences
+# vary as in any unstructured mesh. Written to <out-dir>/hex/, away from the
+# tet parts the tests glob in Data/.
+# ----------------------------------------------------------------------------
+
+# VTK_HEXAHEDRON's faces, outward (VTK's face order), and each corner's three
+# edge neighbours ordered as for the scaled Jacobian (thesis Eq. 4.2), so a
+# positive hexahedron is positive at every corner.
+HEX_FACES = [(0, 4, 7, 3), (1, 2, 6, 5), (0, 1, 5, 4), (3, 7, 6, 2), (0, 3, 2, 1), (4, 5, 6, 7)]
+HEX_CORNER_EDGES = [(1, 3, 4), (2, 0, 5), (3, 1, 6), (0, 2, 7),
+                    (7, 5, 0), (4, 6, 1), (5, 7, 2), (6, 4, 3)]
+
+
+def build_hex_block():
+    occ = gmsh.model.occ
+    d = {
+        "block_size_x": 60.0, "block_size_y": 40.0, "block_size_z": 20.0,
+        "block_origin": [0.0, 0.0, 0.0],
+        "hole_center_x": 20.0, "hole_center_y": 20.0, "hole_radius": 8.0,
+        "boss_center_x": 45.0, "boss_center_y": 20.0, "boss_radius": 7.0, "boss_height": 10.0,
+    }
+    L, W, H = d["block_size_x"], d["block_size_y"], d["block_size_z"]
+    block = occ.addBox(0, 0, 0, L, W, H)
+    hole = occ.addCylinder(d["hole_center_x"], d["hole_center_y"], -1.0, 0, 0, H + 2.0,
+                           d["hole_radius"])
+    occ.cut([(3, block)], [(3, hole)])
+    solid = single_volume()
+    boss = occ.addCylinder(d["boss_center_x"], d["boss_center_y"], H, 0, 0, d["boss_height"],
+                           d["boss_radius"])
+    occ.fuse([(3, solid)], [(3, boss)])
+    mesh = {"Mesh.MeshSizeMin": 3.0, "Mesh.MeshSizeMax": 8.0, "Mesh.MeshSizeFromCurvature": 12}
+    return "block with a through hole and a cylindrical boss, all hexahedra", d, mesh
+
+
+HEX_PARTS = {
+    "hex_block": build_hex_block,
+}
+
+
+def hex_scaled_jacobians(points, hexes):
+    """Eq. 4.2 at the eight corners of every hexahedron, (n, 8)."""
+    p = points[hexes]
+    out = np.empty((len(hexes), 8))
+    for i, (a, b, c) in enumerate(HEX_CORNER_EDGES):
+        e1, e2, e3 = p[:, a] - p[:, i], p[:, b] - p[:, i], p[:, c] - p[:, i]
+        num = np.einsum("ij,ij->i", e1, np.cross(e2, e3))
+        den = np.linalg.norm(e1, axis=1) * np.linalg.norm(e2, axis=1) * np.linalg.norm(e3, axis=1)
+        out[:, i] = num / den
+    return out
+
+
+def hex_cad_faces(hexes, quads):
+    """CADFace of a hex mesh: per hexahedron and face (HEX_FACES order), the
+    surface tag of that face when it is on the boundary, else -1. Every
+    boundary face must be a quad of exactly one surface and every quad a
+    boundary face; no face may have more than two hexahedra."""
+    n = len(hexes)
+    faces = np.sort(hexes[:, HEX_FACES], axis=2).reshape(-1, 4)  # slot = 6 h + f
+    quad_rows = [np.sort(q, axis=1) for q in quads.values()]
+    _, inverse = np.unique(np.vstack([faces] + quad_rows), axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    face_id, quad_id = inverse[:len(faces)], inverse[len(faces):]
+    count = np.bincount(face_id, minlength=int(inverse.max()) + 1)
+    assert count.max() <= 2, "a quad face of more than two hexahedra"
+    boundary_slots = np.nonzero(count[face_id] == 1)[0]
+    slot_of = np.full(len(count), -1, dtype=np.int64)
+    slot_of[face_id[boundary_slots]] = boundary_slots
+    labels = np.full(len(faces), -1, dtype=np.int32)
+    offset = 0
+    for stag, rows in zip(quads.keys(), quad_rows):
+        slots = slot_of[quad_id[offset:offset + len(rows)]]
+        offset += len(rows)
+        assert np.all(slots >= 0), f"surface {stag}: a quad that is not a boundary hex face"
+        assert np.all(labels[slots] == -1), "boundary face labelled twice"
+        labels[slots] = stag
+    assert np.all(labels[boundary_slots] >= 0), "a boundary hex face on no CAD surface"
+    return labels.reshape(n, 6), len(boundary_slots)
+
+
+def generate_hex(name, out_dir):
+    """Mesh hex part `name` (tets split into hexahedra) and write
+    <out_dir>/<name>.vtu/.json."""
+    gmsh.model.add(name)
+    description, dims, size_options = HEX_PARTS[name]()
+    gmsh.model.occ.synchronize()
+    options = dict(COMMON_MESH_OPTIONS)
+    options.update(size_options)
+    options["Mesh.SubdivisionAlgorithm"] = 2  # all hexahedra
+    for key, value in options.items():
+        gmsh.option.setNumber(key, value)
+    gmsh.model.mesh.generate(3)
+
+    vol = single_volume()
+    types, _, node_tags = gmsh.model.mesh.getElements(3, vol)
+    assert list(types) == [GMSH_HEX], f"volume elements of types {types}"
+    hex_tags = np.asarray(node_tags[0], dtype=np.int64).reshape(-1, 8)
+    all_tags, all_coords, _ = gmsh.model.mesh.getNodes()
+    all_tags = np.asarray(all_tags, dtype=np.int64)
+    all_coords = np.asarray(all_coords, dtype=float).reshape(-1, 3)
+    used = np.unique(hex_tags)  # nodes the hexahedra use, in Gmsh tag order
+    order = np.argsort(all_tags)
+    pos = np.searchsorted(all_tags[order], used)
+    assert np.all(all_tags[order][pos] == used), "hexahedron uses an unknown node"
+    points = all_coords[order[pos]]
+
+    def remap(tags):
+        idx = np.searchsorted(used, tags)
+        assert np.all(idx < len(used)) and np.all(used[np.minimum(idx, len(used) - 1)] == tags), \
+            "element uses a node no hexahedron uses"
+        return idx.astype(np.int64)
+
+    hexes = remap(hex_tags)
+    # Gmsh's hexahedron has VTK's node order; flip any inside-out one.
+    jac = hex_scaled_jacobians(points, hexes)
+    inside_out = np.all(jac < 0, axis=1)
+    hexes[inside_out] = hexes[inside_out][:, [4, 5, 6, 7, 0, 1, 2, 3]]
+    jac = hex_scaled_jacobians(points, hexes)
+    assert np.all(jac > 0), f"{int(np.sum(np.any(jac <= 0, axis=1)))} hexahedra not positive"
+    entity_dim, entity_tag = classify_nodes(used)
+
+    quads = {}
+    for _, stag in gmsh.model.getEntities(2):
+        qtypes, _, ntags = gmsh.model.mesh.getElements(2, stag)
+        assert list(qtypes) == [GMSH_QUAD], f"surface {stag}: element types {qtypes}"
+        quads[stag] = remap(np.asarray(ntags[0], dtype=np.int64).reshape(-1, 4))
+    cad_face, n_boundary = hex_cad_faces(hexes, quads)
+    assert n_boundary == sum(len(q) for q in quads.values())
+
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    worst = jac.min(axis=1)
+    info = {
+        "name": name,
+        "description": description,
+        "units": "mm",
+        "generator": ("Data/generate_parts.py --hex (Gmsh OpenCASCADE kernel; tets, each "
+                      "split into four hexahedra)"),
+        "gmsh_version": gmsh.option.getString("General.Version"),
+        "dimensions": dims,
+        "mesh_options": options,
+        "counts": {"points": int(len(points)), "hexahedra": int(len(hexes)),
+                   "boundary_quads": int(n_boundary), "surfaces": len(quads)},
+        "bounding_box": {"min": lo.tolist(), "max": hi.tolist()},
+        "cad_volume": float(gmsh.model.occ.getMass(3, vol)),
+        "orientation": {"gmsh_hexahedra_flipped": int(np.sum(inside_out)),
+                        "convention": ("VTK_HEXAHEDRON: (p0 p1 p2 p3) turns about the normal "
+                                       "towards p4; every corner's scaled Jacobian > 0")},
+        "scaled_jacobian": {"min": float(worst.min()), "mean": float(worst.mean()),
+                            "note": "minimum over the corners of thesis Eq. 4.2, per hexahedron"},
+        "faces": [{"tag": int(stag), "gmsh_type": gmsh.model.getType(2, stag),
+                   "quad_count": int(len(q))} for stag, q in quads.items()],
+    }
+    write_vtu(os.path.join(out_dir, name + ".vtu"), points, hexes, cad_face, entity_dim,
+              entity_tag, VTK_HEXAHEDRON_TYPE)
+    with open(os.path.join(out_dir, name + ".json"), "w") as f:
+        json.dump(info, f, indent=1)
+        f.write("\n")
+    gmsh.model.remove()
+    return info
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out-dir", default=None,
@@ -1563,11 +1746,17 @@ def main():
     parser.add_argument("--step", action="append", metavar="PATH",
                         help="mesh this STEP file instead (repeatable): <stem>.vtu/.json in "
                              "--out-dir, each face's primitive found by fitting its nodes")
+    parser.add_argument("--hex", action="store_true",
+                        help="write only the all-hexahedral parts, into <out-dir>/hex/ "
+                             f"({', '.join(sorted(HEX_PARTS))}; a run without options writes "
+                             "them too)")
     parser.add_argument("--mesh-size", type=float, default=None,
                         help="with --step: maximum element size in mm (default: 1/50 of the "
                              "bounding box diagonal; minimum 1/20 of it, plus curvature "
                              f"sizing, {STEP_CURVATURE_ELEMENTS} elements per 2 pi)")
     args = parser.parse_args()
+    if args.hex and (args.fine or args.only or args.step):
+        parser.error("--hex does not go with --fine, --only or --step")
     if args.step and (args.fine or args.only):
         parser.error("--step does not go with --fine or --only")
     if args.step and not args.out_dir:
@@ -1585,7 +1774,7 @@ def main():
     gmsh.initialize(["generate_parts"], readConfigFiles=False)
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.option.setNumber("General.NumThreads", 1)
-    rows = []
+    rows, hex_rows = [], []
     try:
         if args.fine:
             start = time.perf_counter()
@@ -1600,23 +1789,35 @@ def main():
         for path in args.step or []:
             rows.append(generate_step(path, args.out_dir, args.mesh_size))
         for name in PARTS:
-            if args.fine or args.step or (args.only and name not in args.only):
+            if args.fine or args.step or args.hex or (args.only and name not in args.only):
                 continue
             info = generate(name, args.out_dir)
             rows.append(info)
+        if not (args.fine or args.step or args.only):
+            hex_dir = os.path.join(args.out_dir, "hex")
+            os.makedirs(hex_dir, exist_ok=True)
+            for name in HEX_PARTS:
+                hex_rows.append(generate_hex(name, hex_dir))
     finally:
         gmsh.finalize()
 
-    width = max([18] + [len(info["name"]) for info in rows])
-    print(f"{'part':<{width}} {'points':>7} {'tets':>7} {'tris':>6}  {'faces by type':<44} "
-          f"{'max dist':>9}  {'vtu KB':>7}")
-    for info in rows:
+    if rows:
+        width = max([18] + [len(info["name"]) for info in rows])
+        print(f"{'part':<{width}} {'points':>7} {'tets':>7} {'tris':>6}  {'faces by type':<44} "
+              f"{'max dist':>9}  {'vtu KB':>7}")
+        for info in rows:
+            c = info["counts"]
+            types = ", ".join(f"{n} {t}" for t, n in sorted(c["surfaces_by_type"].items()))
+            dist = max(info["max_node_distance_by_type"].values())
+            size = os.path.getsize(os.path.join(args.out_dir, info["name"] + ".vtu")) / 1024
+            print(f"{info['name']:<{width}} {c['points']:>7} {c['tets']:>7} {c['boundary_triangles']:>6}  "
+                  f"{types:<44} {dist:>9.2e}  {size:>7.0f}")
+    for info in hex_rows:
         c = info["counts"]
-        types = ", ".join(f"{n} {t}" for t, n in sorted(c["surfaces_by_type"].items()))
-        dist = max(info["max_node_distance_by_type"].values())
-        size = os.path.getsize(os.path.join(args.out_dir, info["name"] + ".vtu")) / 1024
-        print(f"{info['name']:<{width}} {c['points']:>7} {c['tets']:>7} {c['boundary_triangles']:>6}  "
-              f"{types:<44} {dist:>9.2e}  {size:>7.0f}")
+        size = os.path.getsize(os.path.join(args.out_dir, "hex", info["name"] + ".vtu")) / 1024
+        print(f"hex/{info['name']}: {c['points']} points, {c['hexahedra']} hexahedra, "
+              f"{c['boundary_quads']} boundary quads, scaled Jacobian min "
+              f"{info['scaled_jacobian']['min']:.3f}, {size:.0f} KB")
     print(f"written to {args.out_dir}" + ("" if HAVE_VTK else " (ascii .vtu: vtkmodules not found)"))
 
 

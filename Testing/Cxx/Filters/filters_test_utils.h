@@ -10,8 +10,17 @@
 #include "vtkPoints.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnstructuredGrid.h"
+#include "vtkXMLDataElement.h"
+#include "vtkXMLUnstructuredGridReader.h"
+#include "vtkXMLUtilities.h"
+
+#include <gtest/gtest.h>
 
 #include <array>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
 #include <initializer_list>
 #include <string>
 #include <utility>
@@ -86,5 +95,111 @@ private:
     return all;
   }
 };
+
+
+/// The SourceProxy of class `className` in the plugin's XML at `path`
+/// (root keeps the document alive), after checking its name, label and
+/// menu category (FEMorph); null, with test failures, when it is not there.
+inline vtkXMLDataElement* FindFilterProxy(const std::string& path, const char* className,
+  const char* name, const char* label, vtkSmartPointer<vtkXMLDataElement>& root)
+{
+  root.TakeReference(vtkXMLUtilities::ReadElementFromFile(path.c_str()));
+  vtkXMLDataElement* group = root ? root->LookupElementWithName("ProxyGroup") : nullptr;
+  vtkXMLDataElement* proxy =
+    group ? group->FindNestedElementWithNameAndAttribute("SourceProxy", "class", className) : nullptr;
+  if (!proxy)
+  {
+    ADD_FAILURE() << "no SourceProxy of class " << className << " in " << path;
+    return nullptr;
+  }
+  EXPECT_STREQ(proxy->GetAttribute("name"), name);
+  EXPECT_STREQ(proxy->GetAttribute("label"), label);
+  vtkXMLDataElement* hints = proxy->FindNestedElementWithName("Hints");
+  vtkXMLDataElement* menu = hints ? hints->FindNestedElementWithName("ShowInMenu") : nullptr;
+  EXPECT_TRUE(menu && std::string(menu->GetAttribute("category") ? menu->GetAttribute("category") : "") == "FEMorph")
+    << className << " is not in the FEMorph menu";
+  return proxy;
+}
+
+
+/// What a filter property of the plugin's XML must say: its default, its
+/// range (checked when it has a range domain) and whether it is advanced.
+struct XmlProperty
+{
+  double Default = 0;
+  double Min = 0, Max = 0;
+  bool Advanced = false;
+};
+
+/// Every property of `proxy` that has a command (inputs aside) is in
+/// `expected` by command and vice versa; each has the expected default
+/// (default_values), visibility, range (a Double/IntRangeDomain, else a
+/// Boolean or Enumeration domain) and a Documentation. `extra` checks more
+/// of each property.
+inline void CheckFilterProperties(vtkXMLDataElement* proxy,
+  const std::map<std::string, XmlProperty>& expected,
+  const std::function<void(const std::string&, vtkXMLDataElement*)>& extra = {})
+{
+  std::set<std::string> seen;
+  for (int i = 0; i < proxy->GetNumberOfNestedElements(); ++i)
+  {
+    vtkXMLDataElement* e = proxy->GetNestedElement(i);
+    const char* command = e->GetAttribute("command");
+    if (!command || std::string(e->GetName()) == "InputProperty")
+    {
+      continue;
+    }
+    auto it = expected.find(command);
+    if (it == expected.end())
+    {
+      ADD_FAILURE() << "add a default check for " << command;
+      continue;
+    }
+    seen.insert(command);
+    const XmlProperty& x = it->second;
+    const char* value = e->GetAttribute("default_values");
+    EXPECT_TRUE(value && std::stod(value) == x.Default)
+      << command << ": default " << (value ? value : "missing") << ", C++ " << x.Default;
+    const char* visibility = e->GetAttribute("panel_visibility");
+    EXPECT_EQ(visibility && std::string(visibility) == "advanced", x.Advanced) << command;
+    vtkXMLDataElement* range = e->FindNestedElementWithName("DoubleRangeDomain");
+    if (!range)
+    {
+      range = e->FindNestedElementWithName("IntRangeDomain");
+    }
+    if (range)
+    {
+      EXPECT_EQ(std::stod(range->GetAttribute("min")), x.Min) << command;
+      EXPECT_EQ(std::stod(range->GetAttribute("max")), x.Max) << command;
+    }
+    else
+    {
+      EXPECT_TRUE(e->FindNestedElementWithName("BooleanDomain") ||
+        e->FindNestedElementWithName("EnumerationDomain"))
+        << command << " has no domain";
+    }
+    EXPECT_NE(e->FindNestedElementWithName("Documentation"), nullptr) << command;
+    if (extra)
+    {
+      extra(command, e);
+    }
+  }
+  EXPECT_EQ(seen.size(), expected.size());
+}
+
+
+/// A .vtu of Data/ by its path relative to Data/; null when it is missing.
+inline vtkSmartPointer<vtkUnstructuredGrid> ReadPart(const std::string& name)
+{
+  const std::string path = std::string(FEMORPH_DATA_DIR) + "/" + name;
+  if (!std::ifstream(path).good())
+  {
+    return nullptr;
+  }
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  return reader->GetOutput();
+}
 
 } // namespace femorph_test

@@ -246,18 +246,6 @@ void ExpectRefused(vtkUnstructuredGrid* grid, const std::vector<std::string>& wo
   EXPECT_TRUE(Snapshot(grid) == before) << "the input was modified";
 }
 
-vtkSmartPointer<vtkUnstructuredGrid> ReadPart(const std::string& name)
-{
-  const std::string path = std::string(FEMORPH_DATA_DIR) + "/" + name;
-  if (!std::ifstream(path).good())
-  {
-    return nullptr;
-  }
-  vtkNew<vtkXMLUnstructuredGridReader> reader;
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  return reader->GetOutput();
-}
 
 } // namespace
 
@@ -295,7 +283,7 @@ TEST(MeshConversion, RoundTripFloatPoints)
 
 TEST(MeshConversion, RoundTripDataPart)
 {
-  auto input = ReadPart("boss_block.vtu");
+  auto input = femorph_test::ReadPart("boss_block.vtu");
   if (!input)
   {
     GTEST_SKIP() << "Data/boss_block.vtu not found";
@@ -318,7 +306,7 @@ TEST(MeshConversion, RoundTripDataPart)
 
 TEST(MeshConversion, FaceRegionPassesThrough)
 {
-  auto input = ReadPart("boss_block.vtu");
+  auto input = femorph_test::ReadPart("boss_block.vtu");
   if (!input)
   {
     GTEST_SKIP() << "Data/boss_block.vtu not found";

@@ -154,18 +154,6 @@ struct Snapshot
   }
 };
 
-vtkSmartPointer<vtkUnstructuredGrid> ReadPart(const std::string& name)
-{
-  const std::string path = std::string(FEMORPH_DATA_DIR) + "/" + name;
-  if (!std::ifstream(path).good())
-  {
-    return nullptr;
-  }
-  vtkNew<vtkXMLUnstructuredGridReader> reader;
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  return reader->GetOutput();
-}
 
 } // namespace
 
@@ -406,7 +394,7 @@ TEST(MeshQuality, StretchThresholdIsClamped)
 
 TEST(MeshQuality, DataPartProgressAndAbort)
 {
-  auto input = ReadPart("boss_block.vtu");
+  auto input = femorph_test::ReadPart("boss_block.vtu");
   if (!input)
   {
     GTEST_SKIP() << "Data/boss_block.vtu not found";
@@ -453,15 +441,10 @@ TEST(MeshQuality, DataPartProgressAndAbort)
 // the C++ defaults and clamps.
 TEST(MeshQuality, XmlDefaultsEqualCxxDefaults)
 {
-  const std::string path = FEMORPH_PLUGIN_XML;
   vtkSmartPointer<vtkXMLDataElement> root;
-  root.TakeReference(vtkXMLUtilities::ReadElementFromFile(path.c_str()));
-  ASSERT_NE(root, nullptr) << path;
-  vtkXMLDataElement* proxy = root->LookupElementWithName("ProxyGroup");
+  vtkXMLDataElement* proxy = femorph_test::FindFilterProxy(
+    FEMORPH_PLUGIN_XML, "vtkFEMorphMeshQuality", "FEMorphMeshQuality", "FEMorph Mesh Quality", root);
   ASSERT_NE(proxy, nullptr);
-  proxy = proxy->FindNestedElementWithNameAndAttribute("SourceProxy", "class", "vtkFEMorphMeshQuality");
-  ASSERT_NE(proxy, nullptr);
-  EXPECT_STREQ(proxy->GetAttribute("label"), "FEMorph Mesh Quality");
 
   vtkNew<vtkFEMorphMeshQuality> defaults;
   vtkXMLDataElement* property =

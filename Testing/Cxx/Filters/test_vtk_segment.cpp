@@ -337,30 +337,13 @@ TEST(Segment, WarnsAboutUnusedPoints)
 // ports are named.
 TEST(Segment, XmlDefaultsEqualCxxDefaults)
 {
-  const std::string path = FEMORPH_PLUGIN_XML;
   vtkSmartPointer<vtkXMLDataElement> root;
-  root.TakeReference(vtkXMLUtilities::ReadElementFromFile(path.c_str()));
-  ASSERT_NE(root, nullptr) << path;
-  vtkXMLDataElement* group = root->LookupElementWithName("ProxyGroup");
-  ASSERT_NE(group, nullptr);
-  vtkXMLDataElement* proxy =
-    group->FindNestedElementWithNameAndAttribute("SourceProxy", "class", "vtkFEMorphSegment");
+  vtkXMLDataElement* proxy = femorph_test::FindFilterProxy(
+    FEMORPH_PLUGIN_XML, "vtkFEMorphSegment", "FEMorphSegment", "FEMorph Segment", root);
   ASSERT_NE(proxy, nullptr);
-  EXPECT_STREQ(proxy->GetAttribute("name"), "FEMorphSegment");
-  EXPECT_STREQ(proxy->GetAttribute("label"), "FEMorph Segment");
-  vtkXMLDataElement* hints = proxy->FindNestedElementWithName("Hints");
-  ASSERT_NE(hints, nullptr);
-  vtkXMLDataElement* menu = hints->FindNestedElementWithName("ShowInMenu");
-  ASSERT_NE(menu, nullptr);
-  EXPECT_STREQ(menu->GetAttribute("category"), "FEMorph");
 
   vtkNew<vtkFEMorphSegment> d;
-  struct Expected
-  {
-    double Default, Min, Max;
-    bool Advanced;
-  };
-  const std::map<std::string, Expected> expected = {
+  const std::map<std::string, femorph_test::XmlProperty> expected = {
     { "SetSharpAngle",
       { d->GetSharpAngle(), d->GetSharpAngleMinValue(), d->GetSharpAngleMaxValue(), false } },
     { "SetCylinderAngleTolerance",
@@ -384,46 +367,7 @@ TEST(Segment, XmlDefaultsEqualCxxDefaults)
     { "SetRefineFits", { double(d->GetRefineFits()), 0, 1, true } },
     { "SetAdaptiveTolerance", { double(d->GetAdaptiveTolerance()), 0, 1, true } },
   };
-  std::set<std::string> seen;
-  for (int i = 0; i < proxy->GetNumberOfNestedElements(); ++i)
-  {
-    vtkXMLDataElement* e = proxy->GetNestedElement(i);
-    const char* command = e->GetAttribute("command");
-    if (!command || std::string(e->GetName()) == "InputProperty")
-    {
-      continue;
-    }
-    auto it = expected.find(command);
-    if (it == expected.end())
-    {
-      ADD_FAILURE() << "add a default check for " << command;
-      continue;
-    }
-    seen.insert(command);
-    const Expected& x = it->second;
-    ASSERT_NE(e->GetAttribute("default_values"), nullptr) << command;
-    EXPECT_EQ(std::stod(e->GetAttribute("default_values")), x.Default) << command;
-    const char* visibility = e->GetAttribute("panel_visibility");
-    EXPECT_EQ(visibility && std::string(visibility) == "advanced", x.Advanced) << command;
-    vtkXMLDataElement* range = e->FindNestedElementWithName("DoubleRangeDomain");
-    if (!range)
-    {
-      range = e->FindNestedElementWithName("IntRangeDomain");
-    }
-    if (range)
-    {
-      EXPECT_EQ(std::stod(range->GetAttribute("min")), x.Min) << command;
-      EXPECT_EQ(std::stod(range->GetAttribute("max")), x.Max) << command;
-    }
-    else
-    {
-      EXPECT_NE(e->FindNestedElementWithName("BooleanDomain"), nullptr)
-        << command << " has no range";
-    }
-    // Every property is documented.
-    EXPECT_NE(e->FindNestedElementWithName("Documentation"), nullptr) << command;
-  }
-  EXPECT_EQ(seen.size(), expected.size());
+  femorph_test::CheckFilterProperties(proxy, expected);
 
   // Three named output ports.
   const char* ports[] = { "Mesh", "Surface", "Regions" };
