@@ -125,7 +125,7 @@ std::string run_peer(const std::string& args) {
   }
   // The shell reports a child killed by signal N as exit code 128 + N.
   if (WIFEXITED(status) && WEXITSTATUS(status) > 128)
-    return "crashed (signal " + std::to_string(WEXITSTATUS(status) - 128) + ", e.g. 11 = SIGSEGV), no result";
+    return "crashed (signal " + std::to_string(WEXITSTATUS(status) - 128) + "), no result";
   if (WIFEXITED(status)) return "exited with code " + std::to_string(WEXITSTATUS(status)) + ", no result";
   return "crashed";
 }
@@ -160,14 +160,15 @@ int main(int argc, char** argv) {
   const testing::TestMesh small = testing::make_cube_mesh(20, 0.2, 11);
   std::printf("Angle sweep (thesis Table 4.3), 20^3 hexes C+, jitter 0.2, %zu tets\n", small.tets.size());
   std::printf("  %10s %10s %10s %10s %10s %12s %10s\n", "quad angle", "hexes", "prisms", "pyramids", "tets",
-              "hex vol %", "min SJ");
+              "hex vol %", "min SJ rec.");
   for (double angle : { 0.0, 5.0, 10.0, 20.0, 30.0, 45.0, 60.0, 90.0 }) {
     TetToHexParams p;
     p.quad_angle_deg = angle;
     const Run r = recombine(small, p, 1);
     const TetToHexStats& s = r.result.stats;
-    double q = 2;
-    for (double v : r.result.min_scaled_jacobian) q = std::min(q, v);
+    double q = 2;  // over the recombined cells (the tets left are the input's)
+    for (index_t c = 0; c < r.result.cells.size(); ++c)
+      if (r.result.cells.kinds[c] != CellKind::Tetra) q = std::min(q, r.result.min_scaled_jacobian[c]);
     std::printf("  %10.0f %10zu %10zu %10zu %10zu %12.2f %10.4f\n", angle, s.cells[3], s.cells[2], s.cells[1],
                 s.cells[0], 100 * s.volume[3] / s.total_volume, q);
   }
