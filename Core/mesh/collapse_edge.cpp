@@ -162,7 +162,8 @@ OpStatus TetMesh::collapse_edge(index_t keep, index_t remove, const Vec3* positi
   }
   if (ring.empty()) return OpStatus::InvalidArgument;  // not an edge
   for (index_t t : ball_remove)
-    if (local_index(t, keep) < 0 && !positive_after(rec_[t].v)) return OpStatus::Inverted;
+    if (local_index(t, keep) < 0 && !positive_after(rec_[t].v) && !(keep_inverted_ && orientation(t) < 0))
+      return OpStatus::Inverted;
   // Tets of ball(keep) off the edge stay, with keep moved to p.
   vertex_ball(keep, ball_keep);
   unchanged.clear();
@@ -197,6 +198,14 @@ OpStatus TetMesh::collapse_edge(index_t keep, index_t remove, const Vec3* positi
   // Tets of keep's ball that only moved are touched too.
   touched_.insert(touched_.end(), unchanged.begin(), unchanged.end());
   return OpStatus::Ok;
+}
+
+OpStatus TetMesh::half_edge_collapse_keeping_inverted(index_t remove, index_t keep) {
+  if (!allow_inverted_) return OpStatus::InvalidArgument;
+  keep_inverted_ = true;
+  const OpStatus status = collapse_edge(keep, remove, nullptr);
+  keep_inverted_ = false;
+  return status;
 }
 
 }  // namespace femorph

@@ -208,6 +208,13 @@ class TetMesh {
   OpStatus collapse_edge(index_t keep, index_t remove, const Vec3* position);
   /// Half-edge collapse (Fig. 2.39): `remove` moves onto `keep`.
   OpStatus half_edge_collapse(index_t remove, index_t keep) { return collapse_edge(keep, remove, nullptr); }
+  /// Half-edge collapse for the inverted element removal (thesis 2.6.2,
+  /// Fig. 2.39) on a mesh built with BuildOptions::allow_inverted: as
+  /// half_edge_collapse(), except that a tet of remove's ball that is inverted
+  /// (negative volume) before may be non-positive after. Every other tet must
+  /// stay positive, so the number of inverted tets drops by those on the edge.
+  /// InvalidArgument when the mesh does not allow inverted tets.
+  OpStatus half_edge_collapse_keeping_inverted(index_t remove, index_t keep);
   /// The collapse of edge (a, b) that thesis Fig. 2.37 allows: refuses the
   /// forbidden edges (A)-(C) with ForbiddenByRule; otherwise names the vertex
   /// to keep and the position by rules (D)-(G). Improve projects `position`
@@ -298,6 +305,7 @@ class TetMesh {
   std::vector<index_t> free_tets_;
   std::vector<index_t> free_vertices_;
   bool allow_inverted_ = false;
+  bool keep_inverted_ = false;  // set by half_edge_collapse_keeping_inverted
 
   // Scratch space reused by queries and operations (no allocation per op).
   mutable std::vector<std::uint16_t> tet_mark_;

@@ -1,0 +1,291 @@
+// Mesh density control, thesis 2.6.3 Fig. 2.40 (c); see control_mesh_density.h.
+#include "improve/control_mesh_density.h"
+
+#include "mesh/tet_mesh.h"
+#include "quality/tet_quality.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <queue>
+
+namespace femorph {
+
+namespace {
+
+constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+
+struct HeapEdge {
+  double length;
+  index_t a, b;
+};
+// Ties broken by the ids so that the order never depends on the heap.
+struct Longer {
+  bool operator()(const HeapEdge& x, const HeapEdge& y) const {
+    if (x.length != y.length) return x.length < y.length;
+    return x.a != y.a ? x.a > y.a : x.b > y.b;
+  }
+};
+struct Shorter {
+  bool operator()(const HeapEdge& x, const HeapEdge& y) const {
+    if (x.length != y.length) return x.length > y.length;
+    return x.a != y.a ? x.a > y.a : x.b > y.b;
+  }
+};
+using MaxHeap = std::priority_queue<HeapEdge, std::vector<HeapEdge>, Longer>;
+using MinHeap = std::priority_queue<HeapEdge, std::vector<HeapEdge>, Shorter>;
+
+bool masked(const std::vector<char>& mask, index_t v) {
+  return mask.empty() || (static_cast<std::size_t>(v) < mask.size() && mask[v]);
+}
+
+/// L(e) * rho_GC(c_e); 0 where the field has no density.
+double scaled_length(const TetMesh& mesh, const DensityGrid& grid, DensityLookup lookup, index_t a, index_t b,
+                     double* length) {
+  const Vec3& p = mesh.point(a);
+  const Vec3& q = mesh.point(b);
+  *length = (q - p).norm();
+  return *length * grid.density_at(0.5 * (p + q), lookup);
+}
+
+/// Distinct live edges (a < b), sorted.
+std::vector<std::pair<index_t, index_t>> live_edges(const TetMesh& mesh, const std::vector<char>& mask) {
+  std::vector<std::uint64_t> keys;
+  keys.reserve(mesh.live_tets() * 6);
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const Tet& v = mesh.tet(t);
+    for (const auto& e : kTetEdges) {
+      index_t a = v[e[0]], b = v[e[1]];
+      if (!masked(mask, a) || !masked(mask, b)) continue;
+      if (a > b) std::swap(a, b);
+      keys.push_back((static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b));
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::vector<std::pair<index_t, index_t>> edges;
+  edges.reserve(keys.size());
+  for (const std::uint64_t k : keys)
+    edges.emplace_back(static_cast<index_t>(k >> 32), static_cast<index_t>(k & 0xffffffffu));
+  return edges;
+}
+
+/// Stretch of tet t with vertex `from` renamed `to` and `moved` placed at
+/// `position` (from/moved may be -1).
+double stretch_with(const TetMesh& mesh, index_t t, index_t from, index_t to, index_t moved, const Vec3& position) {
+  Vec3 p[4];
+  for (int q = 0; q < 4; ++q) {
+    index_t v = mesh.tet(t)[q];
+    if (v == from) v = to;
+    p[q] = v == moved ? position : mesh.point(v);
+  }
+  return tet_stretch(p[0], p[1], p[2], p[3]);
+}
+
+double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, index_t moved, const Vec3& position) {
+  double worst = std::numeric_limits<double>::infinity();
+  for (const index_t t : ball) worst = std::min(worst, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, moved, position));
+  return worst;
+}
+
+/// The stretch floor: refuse when the new worst tet is below the floor and
+/// below the old worst.
+bool below_floor(double new_min, double old_min, double floor) { return new_min < floor && new_min < old_min; }
+
+/// Moves the boundary vertex v to options.project(v, p) when that keeps its
+/// ball valid and above the floor. Returns true if moved.
+bool try_project(TetMesh& mesh, index_t v, const DensityControlOptions& options, std::vector<index_t>& ball) {
+  const Vec3 current = mesh.point(v);
+  const Vec3 target = options.project(v, current);
+  if (!target.allFinite() || target == current) return false;
+  mesh.vertex_ball(v, ball);
+  const double old_min = ball_min_stretch(mesh, ball, kInvalidIndex, current);
+  const double new_min = ball_min_stretch(mesh, ball, v, target);
+  if (below_floor(new_min, old_min, options.min_stretch)) return false;
+  return mesh.move_vertex(v, target) == OpStatus::Ok;
+}
+
+}  // namespace
+
+std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
+                             std::vector<char>& mask, DensityControlStats* stats) {
+  const double beta1 = options.split_threshold;
+  // Step 1: edges with L(e) >= beta1 / rho_GC(c_e) into a max-heap by length.
+  MaxHeap heap;
+  for (const auto& e : live_edges(mesh, mask)) {
+    double length;
+    if (scaled_length(mesh, grid, options.lookup, e.first, e.second, &length) >= beta1)
+      heap.push({length, e.first, e.second});
+  }
+  std::size_t splits = 0;
+  std::vector<index_t> ring, ball;
+  // Steps 2-3: split the longest until the heap is empty.
+  while (!heap.empty()) {
+    const HeapEdge top = heap.top();
+    heap.pop();
+    if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
+    bool boundary = false;
+    if (!mesh.edge_ring(top.a, top.b, ring, &boundary)) continue;
+    double length;
+    if (scaled_length(mesh, grid, options.lookup, top.a, top.b, &length) < beta1) continue;
+    if (length != top.length) {  // a projection moved an end: requeue
+      heap.push({length, top.a, top.b});
+      continue;
+    }
+    // Stretch floor: every tet of the ring becomes two, one with each end
+    // replaced by the midpoint m.
+    const Vec3 m = 0.5 * (mesh.point(top.a) + mesh.point(top.b));
+    double old_min = std::numeric_limits<double>::infinity(), new_min = old_min;
+    for (const index_t t : ring) {
+      old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, m));
+      new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, top.a, m));
+      new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, top.b, m));
+    }
+    index_t v = kInvalidIndex;
+    if (below_floor(new_min, old_min, options.min_stretch) ||
+        mesh.split_edge(top.a, top.b, nullptr, &v, ring.front()) != OpStatus::Ok) {
+      if (stats) ++stats->refused_splits;
+      continue;
+    }
+    ++splits;
+    if (!mask.empty()) {
+      if (static_cast<std::size_t>(v) >= mask.size()) mask.resize(static_cast<std::size_t>(v) + 1, 0);
+      mask[v] = 1;
+    }
+    // The midpoint of a planar boundary edge is on its plane; curved regions
+    // are projected by the caller's callback.
+    if (boundary && options.project && mesh.on_boundary(v) && try_project(mesh, v, options, ball) && stats)
+      ++stats->projections;
+  }
+  return splits;
+}
+
+std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
+                                 const std::vector<char>& mask, DensityControlStats* stats) {
+  const double beta2 = options.collapse_threshold;
+  const auto qualifies = [&](index_t a, index_t b, double* length) {
+    const double s = scaled_length(mesh, grid, options.lookup, a, b, length);
+    return s > 0 && s <= beta2;
+  };
+  // Step 4: edges with L(e) <= beta2 / rho_GC(c_e) into a min-heap.
+  MinHeap heap;
+  for (const auto& e : live_edges(mesh, mask)) {
+    double length;
+    if (qualifies(e.first, e.second, &length)) heap.push({length, e.first, e.second});
+  }
+  std::size_t collapses = 0;
+  std::vector<index_t> ball_keep, ball_remove, neighbours, neighbours2;
+  while (!heap.empty()) {
+    // Step 5: pop the shortest (stale entries: the edge is gone or changed).
+    const HeapEdge top = heap.top();
+    heap.pop();
+    if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
+    const index_t hint = mesh.find_edge_tet(top.a, top.b);
+    if (hint < 0) continue;
+    double length;
+    if (!qualifies(top.a, top.b, &length)) continue;
+    if (length != top.length) {
+      heap.push({length, top.a, top.b});
+      continue;
+    }
+    // Step 6: collapse by the rules of Fig. 2.37.
+    CollapsePlan plan = mesh.plan_collapse_by_rules(top.a, top.b, hint);
+    if (plan.status != OpStatus::Ok) {
+      if (stats) ++stats->refused_collapses;
+      continue;
+    }
+    bool projected = false;
+    if (options.project && mesh.on_boundary(plan.keep) && plan.position != mesh.point(plan.keep)) {
+      const Vec3 q = options.project(plan.keep, plan.position);
+      if (q.allFinite()) {
+        projected = q != plan.position;
+        plan.position = q;
+      }
+    }
+    // Candidate positions of the surviving vertex: the rules' position
+    // (Fig. 2.37); when both ends have the same class (on one region or
+    // curve), also the two ends themselves (half-edge collapses, Fig. 2.39),
+    // which stay on that region or curve.
+    Vec3 candidates[3] = {plan.position, mesh.point(plan.keep), mesh.point(plan.remove)};
+    const VertexClass ck = mesh.vertex_class(plan.keep);
+    const int n_candidates = ck == mesh.vertex_class(plan.remove) && ck != VertexClass::Corner ? 3 : 1;
+    mesh.vertex_ball(plan.keep, ball_keep);
+    mesh.vertex_ball(plan.remove, ball_remove);
+    mesh.vertex_neighbors(plan.keep, neighbours);
+    mesh.vertex_neighbors(plan.remove, neighbours2);
+    double old_min = std::numeric_limits<double>::infinity();
+    for (const std::vector<index_t>* ball : {&ball_keep, &ball_remove})
+      for (const index_t t : *ball)
+        old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, plan.position));
+    int best = -1;
+    double best_min = -std::numeric_limits<double>::infinity();
+    for (int c = 0; c < n_candidates; ++c) {
+      const Vec3& x = candidates[c];
+      if (c > 0 && x == candidates[0]) continue;
+      // No edge of the surviving vertex may become long enough to be split
+      // (else a split and a collapse can undo each other forever; the
+      // thesis' convergence condition on beta1, beta2 assumes this).
+      bool creates_long_edge = false;
+      for (const std::vector<index_t>* ns : {&neighbours, &neighbours2})
+        for (const index_t n : *ns) {
+          if (n == plan.keep || n == plan.remove || creates_long_edge) continue;
+          const Vec3& q = mesh.point(n);
+          creates_long_edge = (q - x).norm() * grid.density_at(0.5 * (q + x), options.lookup) >= options.split_threshold;
+        }
+      if (creates_long_edge) continue;
+      // Stretch floor over the tets that survive, with remove renamed keep
+      // and keep moved to x.
+      double new_min = std::numeric_limits<double>::infinity();
+      for (const std::vector<index_t>* ball : {&ball_keep, &ball_remove})
+        for (const index_t t : *ball) {
+          if (mesh.local_index(t, plan.keep) >= 0 && mesh.local_index(t, plan.remove) >= 0) continue;  // vanishes
+          new_min = std::min(new_min, stretch_with(mesh, t, plan.remove, plan.keep, plan.keep, x));
+        }
+      if (below_floor(new_min, old_min, options.min_stretch) || new_min <= best_min) continue;
+      best = c;
+      best_min = new_min;
+    }
+    if (best < 0 || mesh.collapse_edge(plan.keep, plan.remove, &candidates[best]) != OpStatus::Ok) {
+      if (stats) ++stats->refused_collapses;
+      continue;
+    }
+    projected = projected && best == 0;
+    ++collapses;
+    if (projected && stats) ++stats->projections;
+    // Edges around the surviving vertex that now qualify go into the heap
+    // (duplicates are harmless: stale entries are skipped when popped).
+    mesh.vertex_neighbors(plan.keep, neighbours);
+    for (const index_t n : neighbours) {
+      if (!masked(mask, n) || !masked(mask, plan.keep)) continue;
+      if (qualifies(plan.keep, n, &length)) heap.push({length, std::min(plan.keep, n), std::max(plan.keep, n)});
+    }
+  }
+  return collapses;
+}
+
+DensityControlStats control_mesh_density(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options) {
+  DensityControlStats stats;
+  stats.error_before = mean_density_error(mesh, grid, options.lookup);
+  if (grid.empty()) {
+    stats.error_after = stats.error_before;
+    stats.converged = true;
+    return stats;
+  }
+  std::vector<char> mask = options.vertex_mask;
+  for (int round = 0; round < options.max_iterations; ++round) {
+    ++stats.iterations;
+    const std::size_t s = split_long_edges(mesh, grid, options, mask, &stats);
+    const std::size_t c = collapse_short_edges(mesh, grid, options, mask, &stats);
+    stats.splits += s;
+    stats.collapses += c;
+    if (s == 0 && c == 0) {
+      stats.converged = true;
+      break;
+    }
+  }
+  stats.error_after = mean_density_error(mesh, grid, options.lookup);
+  return stats;
+}
+
+}  // namespace femorph

@@ -1,0 +1,192 @@
+// Flips 2-3, 3-2 and 4-4 under the three conditions of thesis 2.6.5.4.
+#include "improve/improve_tets_by_flips.h"
+
+#include "geometry/predicates.h"
+#include "improve/locally_delaunay.h"
+#include "mesh/tet_mesh.h"
+#include "quality/tet_quality.h"
+
+#include <algorithm>
+#include <deque>
+#include <limits>
+
+namespace femorph {
+
+namespace {
+
+constexpr double kNone = -std::numeric_limits<double>::infinity();
+
+struct Candidate {
+  int kind = 0;  // 0: flip 2-3 of face f of t; 1: flip 3-2 of (a, b); 2: flip 4-4 of (a, b)
+  index_t t = kInvalidIndex;
+  int f = 0;     // face (2-3) or diagonal (4-4)
+  index_t a = kInvalidIndex, b = kInvalidIndex;
+  double quality = kNone;
+};
+
+class FlipEvaluator {
+ public:
+  FlipEvaluator(TetMesh& mesh, const FlipImproveOptions& options) : mesh_(mesh), options_(options) {}
+
+  double stretch(index_t t) const {
+    const Tet& T = mesh_.tet(t);
+    return tet_stretch(mesh_.point(T[0]), mesh_.point(T[1]), mesh_.point(T[2]), mesh_.point(T[3]));
+  }
+
+  bool allowed(const Tet& T) const {
+    if (options_.vertex_mask.empty()) return true;
+    for (index_t v : T)
+      if (static_cast<std::size_t>(v) < options_.vertex_mask.size() && options_.vertex_mask[v]) return true;
+    return false;
+  }
+
+  /// Minimum stretch of `fresh` (orientation repaired in place) if the flip
+  /// old -> fresh meets the conditions of 2.6.5.4, else kNone.
+  double evaluate(const std::vector<index_t>& old, std::vector<Tet>& fresh) const {
+    double old_min = std::numeric_limits<double>::infinity();
+    for (index_t t : old) {
+      if (!allowed(mesh_.tet(t))) return kNone;
+      old_min = std::min(old_min, stretch(t));
+    }
+    // Condition 3: the minimum quality rises. Orientation is checked exactly.
+    double new_min = std::numeric_limits<double>::infinity();
+    for (Tet& T : fresh) {
+      if (!allowed(T)) return kNone;
+      const int s = orient3d_sign(mesh_.point(T[0]), mesh_.point(T[1]), mesh_.point(T[2]), mesh_.point(T[3]));
+      if (s == 0) return kNone;
+      if (s < 0) std::swap(T[2], T[3]);
+      new_min = std::min(new_min, tet_stretch(mesh_.point(T[0]), mesh_.point(T[1]), mesh_.point(T[2]), mesh_.point(T[3])));
+    }
+    if (!(new_min > old_min + options_.min_gain)) return kNone;
+    if (!options_.delaunay_conditions) return new_min;
+    // Condition 1: some old tet is not Delaunay.
+    bool some_bad = false;
+    for (index_t t : old) some_bad = some_bad || !locally_delaunay(mesh_, t);
+    if (!some_bad) return kNone;
+    // Condition 2: every new tet is Delaunay with respect to the cavity's
+    // vertices and the opposite vertices of its outer neighbours.
+    points_.clear();
+    for (index_t t : old) {
+      const Tet& T = mesh_.tet(t);
+      for (int f = 0; f < 4; ++f) {
+        points_.push_back(T[f]);
+        const index_t code = mesh_.adjacency(t, f);
+        if (code >= 0 && std::find(old.begin(), old.end(), code >> 2) == old.end())
+          points_.push_back(mesh_.tet(code >> 2)[code & 3]);
+      }
+    }
+    std::sort(points_.begin(), points_.end());
+    points_.erase(std::unique(points_.begin(), points_.end()), points_.end());
+    for (const Tet& T : fresh)
+      for (index_t p : points_) {
+        if (p == T[0] || p == T[1] || p == T[2] || p == T[3]) continue;
+        if (insphere_sign(mesh_.point(T[0]), mesh_.point(T[1]), mesh_.point(T[2]), mesh_.point(T[3]), mesh_.point(p)) > 0)
+          return kNone;
+      }
+    return new_min;
+  }
+
+  /// Every admissible flip around tet t, best first.
+  void candidates(index_t t, std::vector<Candidate>& out) {
+    out.clear();
+    const Tet T = mesh_.tet(t);
+    // Flip 2-3 of each interior face: (a, b, c) | d, e -> three tets on (d, e).
+    for (int f = 0; f < 4; ++f) {
+      const index_t code = mesh_.adjacency(t, f);
+      if (code < 0) continue;
+      const index_t n = code >> 2, e = mesh_.tet(n)[code & 3], d = T[f];
+      const index_t a = T[kTetFace[f][0]], b = T[kTetFace[f][1]], c = T[kTetFace[f][2]];
+      old_ = {t, n};
+      fresh_ = {Tet{{a, b, d, e}}, Tet{{b, c, d, e}}, Tet{{c, a, d, e}}};
+      const double q = evaluate(old_, fresh_);
+      if (q > kNone) out.push_back({0, t, f, kInvalidIndex, kInvalidIndex, q});
+    }
+    // Flips 3-2 and 4-4 of each edge.
+    static const int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+    for (const auto& e : kEdges) {
+      const index_t a = T[e[0]], b = T[e[1]];
+      bool boundary = false;
+      if (!mesh_.edge_ring(a, b, ring_, &boundary, t) || boundary) continue;
+      const std::size_t n = ring_.size();
+      if (n != 3 && n != 4) continue;
+      // c[i]: the ring vertex shared by ring[i - 1] and ring[i] (ring[i]
+      // holds c[i] and c[i + 1], TetMesh's convention).
+      index_t c[4];
+      for (std::size_t i = 0; i < n; ++i) {
+        const Tet& P = mesh_.tet(ring_[(i + n - 1) % n]);
+        c[i] = kInvalidIndex;
+        for (index_t w : mesh_.tet(ring_[i]))
+          if (w != a && w != b && std::find(P.begin(), P.end(), w) != P.end()) c[i] = w;
+      }
+      if (n == 3) {
+        fresh_ = {Tet{{c[0], c[1], c[2], a}}, Tet{{c[0], c[1], c[2], b}}};
+        const double q = evaluate(ring_, fresh_);
+        if (q > kNone) out.push_back({1, t, 0, a, b, q});
+      } else {
+        for (int k = 0; k < 2; ++k) {
+          fresh_ = {Tet{{a, c[k], c[k + 1], c[k + 2]}}, Tet{{b, c[k], c[k + 1], c[k + 2]}},
+                    Tet{{a, c[k + 2], c[(k + 3) % 4], c[k]}}, Tet{{b, c[k + 2], c[(k + 3) % 4], c[k]}}};
+          const double q = evaluate(ring_, fresh_);
+          if (q > kNone) out.push_back({2, t, k, a, b, q});
+        }
+      }
+    }
+    std::stable_sort(out.begin(), out.end(), [](const Candidate& x, const Candidate& y) { return x.quality > y.quality; });
+  }
+
+ private:
+  TetMesh& mesh_;
+  const FlipImproveOptions& options_;
+  std::vector<index_t> ring_, old_;
+  std::vector<Tet> fresh_;
+  mutable std::vector<index_t> points_;
+};
+
+}  // namespace
+
+FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions& options) {
+  FlipImproveReport report;
+  FlipEvaluator eval(mesh, options);
+  const std::size_t max_visits = options.max_visits ? options.max_visits : 20 * mesh.live_tets() + 1;
+  std::deque<index_t> queue;
+  std::vector<std::uint8_t> queued(mesh.tet_slots(), 0);
+  auto push = [&](index_t t) {
+    if (static_cast<std::size_t>(t) >= queued.size()) queued.resize(static_cast<std::size_t>(t) + 1, 0);
+    if (queued[t] || eval.stretch(t) >= options.quality_threshold) return;
+    queued[t] = 1;
+    queue.push_back(t);
+  };
+  for (index_t t = 0; t < mesh.tet_slots(); ++t)
+    if (mesh.tet_alive(t)) push(t);
+
+  std::vector<Candidate> cands;
+  std::vector<index_t> touched;
+  while (!queue.empty()) {
+    if (report.visits >= max_visits) {
+      report.exhausted = true;
+      break;
+    }
+    ++report.visits;
+    const index_t t = queue.front();
+    queue.pop_front();
+    queued[t] = 0;
+    if (!mesh.tet_alive(t) || eval.stretch(t) >= options.quality_threshold) continue;
+    eval.candidates(t, cands);
+    for (const Candidate& cand : cands) {
+      OpStatus s = OpStatus::InvalidArgument;
+      switch (cand.kind) {
+        case 0: s = mesh.flip_23(cand.t, cand.f); break;
+        case 1: s = mesh.flip_32(cand.a, cand.b, cand.t); break;
+        default: s = mesh.flip_44(cand.a, cand.b, cand.f, cand.t); break;
+      }
+      if (s != OpStatus::Ok) continue;
+      (cand.kind == 0 ? report.flips_23 : cand.kind == 1 ? report.flips_32 : report.flips_44)++;
+      touched = mesh.touched_tets();
+      for (index_t n : touched) push(n);
+      break;
+    }
+  }
+  return report;
+}
+
+}  // namespace femorph

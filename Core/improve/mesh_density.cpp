@@ -1,0 +1,296 @@
+// Thesis 2.6.3 Eq. 2.32, Eq. 2.33 and 2.7.4 Eq. 2.35; see mesh_density.h.
+#include "improve/mesh_density.h"
+
+#include "mesh/tet_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <array>
+#include <cstdint>
+#include <limits>
+
+namespace femorph {
+
+namespace {
+
+constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+
+std::uint64_t edge_key(index_t a, index_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+/// Distinct edges of the tets (skipping tets whose first id is negative, the
+/// tombstones of TetMesh), as sorted keys.
+std::vector<std::uint64_t> distinct_edges(const std::vector<Tet>& tets) {
+  std::vector<std::uint64_t> keys;
+  keys.reserve(tets.size() * 6);
+  for (const Tet& t : tets) {
+    if (t[0] < 0) continue;
+    for (const auto& e : kTetEdges) keys.push_back(edge_key(t[e[0]], t[e[1]]));
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
+
+index_t key_a(std::uint64_t k) { return static_cast<index_t>(k >> 32); }
+index_t key_b(std::uint64_t k) { return static_cast<index_t>(k & 0xffffffffu); }
+
+std::vector<Tet> live_tets(const TetMesh& mesh) {
+  std::vector<Tet> tets;
+  tets.reserve(mesh.live_tets());
+  for (index_t t = 0; t < mesh.tet_slots(); ++t)
+    if (mesh.tet_alive(t)) tets.push_back(mesh.tet(t));
+  return tets;
+}
+
+double signed_volume6(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return (b - a).dot((c - a).cross(d - a));
+}
+
+/// Fills the entries of `values` with known[i] == 0 layer by layer: an
+/// unknown entry next to known ones (6-neighbourhood of a grid with
+/// dims[0] x dims[1] x dims[2] entries) takes the mean of their values.
+void fill_from_neighbours(const std::array<int, 3>& dims, std::vector<double>& values,
+                          std::vector<char>& known) {
+  const auto id = [&](int i, int j, int k) {
+    return (static_cast<std::size_t>(k) * dims[1] + j) * dims[0] + i;
+  };
+  const int offsets[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+  std::vector<std::array<int, 3>> layer, next;
+  std::vector<char> queued(known);
+  const auto push_unknown_neighbours = [&](int i, int j, int k, std::vector<std::array<int, 3>>& out) {
+    for (const auto& o : offsets) {
+      const int a = i + o[0], b = j + o[1], c = k + o[2];
+      if (a < 0 || b < 0 || c < 0 || a >= dims[0] || b >= dims[1] || c >= dims[2]) continue;
+      const std::size_t q = id(a, b, c);
+      if (!queued[q]) {
+        queued[q] = 1;
+        out.push_back({{a, b, c}});
+      }
+    }
+  };
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        if (known[id(i, j, k)]) push_unknown_neighbours(i, j, k, layer);
+  std::vector<double> layer_values;
+  while (!layer.empty()) {
+    // Values of a layer come from the known entries only (order independent).
+    layer_values.assign(layer.size(), 0.0);
+    for (std::size_t n = 0; n < layer.size(); ++n) {
+      double sum = 0;
+      int count = 0;
+      for (const auto& o : offsets) {
+        const int a = layer[n][0] + o[0], b = layer[n][1] + o[1], c = layer[n][2] + o[2];
+        if (a < 0 || b < 0 || c < 0 || a >= dims[0] || b >= dims[1] || c >= dims[2]) continue;
+        const std::size_t q = id(a, b, c);
+        if (known[q]) {
+          sum += values[q];
+          ++count;
+        }
+      }
+      layer_values[n] = count ? sum / count : 0.0;
+    }
+    next.clear();
+    for (std::size_t n = 0; n < layer.size(); ++n) {
+      const std::size_t q = id(layer[n][0], layer[n][1], layer[n][2]);
+      values[q] = layer_values[n];
+      known[q] = 1;
+    }
+    for (const auto& g : layer) push_unknown_neighbours(g[0], g[1], g[2], next);
+    layer.swap(next);
+  }
+}
+
+DensityError density_error_of(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
+                              const DensityGrid& grid, DensityLookup lookup) {
+  DensityError out;
+  if (grid.empty()) return out;
+  double sum = 0;
+  for (const std::uint64_t k : distinct_edges(tets)) {
+    const Vec3& a = points[key_a(k)];
+    const Vec3& b = points[key_b(k)];
+    const double length = (b - a).norm();
+    const double rho = grid.density_at(0.5 * (a + b), lookup);
+    if (!(length > 0) || !(rho > 0)) continue;
+    const double eps = std::abs(1.0 / length - rho) / rho;  // Eq. 2.35
+    sum += eps;
+    out.max = std::max(out.max, eps);
+    ++out.edges;
+  }
+  out.mean = out.edges ? sum / static_cast<double>(out.edges) : 0.0;
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> vertex_density(const std::vector<Vec3>& points, const std::vector<Tet>& tets) {
+  // Eq. 2.32: average of the reciprocals of the incident edge lengths.
+  std::vector<double> sum(points.size(), 0.0);
+  std::vector<int> count(points.size(), 0);
+  for (const std::uint64_t k : distinct_edges(tets)) {
+    const index_t a = key_a(k), b = key_b(k);
+    const double length = (points[b] - points[a]).norm();
+    if (!(length > 0)) continue;
+    sum[a] += 1.0 / length;
+    sum[b] += 1.0 / length;
+    ++count[a];
+    ++count[b];
+  }
+  for (std::size_t i = 0; i < points.size(); ++i) sum[i] = count[i] ? sum[i] / count[i] : 0.0;
+  return sum;
+}
+
+std::vector<double> vertex_density(const TetMesh& mesh) {
+  return vertex_density(mesh.points(), live_tets(mesh));
+}
+
+double mean_edge_length(const std::vector<Vec3>& points, const std::vector<Tet>& tets) {
+  const std::vector<std::uint64_t> edges = distinct_edges(tets);
+  double sum = 0;
+  for (const std::uint64_t k : edges) sum += (points[key_b(k)] - points[key_a(k)]).norm();
+  return edges.empty() ? 0.0 : sum / static_cast<double>(edges.size());
+}
+
+bool DensityGrid::build(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
+                        const std::vector<double>& densities, double cell_size, std::size_t max_points) {
+  *this = DensityGrid();
+  if (tets.empty() || densities.size() != points.size()) return false;
+  if (!(cell_size > 0)) cell_size = 0.5 * mean_edge_length(points, tets);
+  if (!(cell_size > 0) || !std::isfinite(cell_size)) return false;
+
+  // A regular grid covering the deformed mesh (Fig. 2.40 (b)).
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 hi = -lo;
+  for (const Tet& t : tets)
+    for (const index_t v : t) {
+      lo = lo.cwiseMin(points[v]);
+      hi = hi.cwiseMax(points[v]);
+    }
+  std::array<int, 3> n{{1, 1, 1}};
+  std::size_t total = 1;
+  for (int a = 0; a < 3; ++a) {
+    const double cells = std::ceil((hi[a] - lo[a]) / cell_size - 1e-9);
+    if (!(cells < 1e7)) return false;
+    n[a] = std::max(1, static_cast<int>(cells));
+    total *= static_cast<std::size_t>(n[a]) + 1;
+    if (total > max_points) return false;
+  }
+  origin_ = lo;
+  h_ = cell_size;
+  n_ = n;
+  raw_points_.assign(total, 0.0);
+  std::vector<char> known(total, 0);
+
+  // Eq. 2.33: each grid point g in tet tau_g takes
+  // sum_i V(tau_g^i) rho_i / V(tau_g), tau_g^i being tau_g with vertex i
+  // replaced by g (barycentric interpolation).
+  constexpr double kTol = 1e-9;
+  for (const Tet& t : tets) {
+    const Vec3 p[4] = {points[t[0]], points[t[1]], points[t[2]], points[t[3]]};
+    const double volume = signed_volume6(p[0], p[1], p[2], p[3]);
+    if (volume == 0 || !std::isfinite(volume)) continue;
+    Vec3 tlo = p[0], thi = p[0];
+    for (int q = 1; q < 4; ++q) {
+      tlo = tlo.cwiseMin(p[q]);
+      thi = thi.cwiseMax(p[q]);
+    }
+    int i0[3], i1[3];
+    for (int a = 0; a < 3; ++a) {
+      i0[a] = std::max(0, static_cast<int>(std::ceil((tlo[a] - origin_[a]) / h_ - kTol)));
+      i1[a] = std::min(n_[a], static_cast<int>(std::floor((thi[a] - origin_[a]) / h_ + kTol)));
+    }
+    for (int k = i0[2]; k <= i1[2]; ++k)
+      for (int j = i0[1]; j <= i1[1]; ++j)
+        for (int i = i0[0]; i <= i1[0]; ++i) {
+          const std::size_t g = point_id(i, j, k);
+          if (known[g]) continue;
+          const Vec3 x = origin_ + h_ * Vec3(i, j, k);
+          double lambda[4];
+          bool inside = true;
+          for (int q = 0; q < 4 && inside; ++q) {
+            Vec3 r[4] = {p[0], p[1], p[2], p[3]};
+            r[q] = x;
+            lambda[q] = signed_volume6(r[0], r[1], r[2], r[3]) / volume;
+            inside = lambda[q] >= -kTol;
+          }
+          if (!inside) continue;
+          double value = 0, weight = 0;
+          for (int q = 0; q < 4; ++q)
+            if (densities[t[q]] > 0) {
+              value += lambda[q] * densities[t[q]];
+              weight += lambda[q];
+            }
+          if (!(weight > 0)) continue;
+          raw_points_[g] = value / weight;
+          known[g] = raw_points_[g] > 0;
+        }
+  }
+  if (std::find(known.begin(), known.end(), 1) == known.end()) {
+    *this = DensityGrid();
+    return false;
+  }
+
+  // Trilinear lookup: grid points outside the mesh take their neighbours'.
+  filled_points_ = raw_points_;
+  std::vector<char> filled_known = known;
+  fill_from_neighbours({{n_[0] + 1, n_[1] + 1, n_[2] + 1}}, filled_points_, filled_known);
+
+  // rho_GC: the average of the nonzero densities of the cell's corners;
+  // cells without any take their neighbour cells' values.
+  cell_values_.assign(static_cast<std::size_t>(n_[0]) * n_[1] * n_[2], 0.0);
+  std::vector<char> cell_known(cell_values_.size(), 0);
+  for (int k = 0; k < n_[2]; ++k)
+    for (int j = 0; j < n_[1]; ++j)
+      for (int i = 0; i < n_[0]; ++i) {
+        double sum = 0;
+        int count = 0;
+        for (int c = 0; c < 8; ++c) {
+          const double v = raw_points_[point_id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))];
+          if (v > 0) {
+            sum += v;
+            ++count;
+          }
+        }
+        if (count) {
+          cell_values_[cell_id(i, j, k)] = sum / count;
+          cell_known[cell_id(i, j, k)] = 1;
+        }
+      }
+  fill_from_neighbours(n_, cell_values_, cell_known);
+  return true;
+}
+
+double DensityGrid::density_at(const Vec3& p, DensityLookup lookup) const {
+  if (empty()) return 0.0;
+  int c[3];
+  double f[3];
+  for (int a = 0; a < 3; ++a) {
+    double t = (p[a] - origin_[a]) / h_;
+    if (!(t > 0)) t = 0;  // also NaN
+    if (t > n_[a]) t = n_[a];
+    c[a] = std::min(static_cast<int>(std::floor(t)), n_[a] - 1);
+    f[a] = t - c[a];
+  }
+  if (lookup == DensityLookup::Cell) return cell_values_[cell_id(c[0], c[1], c[2])];
+  double value = 0;
+  for (int q = 0; q < 8; ++q) {
+    const int dx = q & 1, dy = (q >> 1) & 1, dz = (q >> 2) & 1;
+    const double w = (dx ? f[0] : 1 - f[0]) * (dy ? f[1] : 1 - f[1]) * (dz ? f[2] : 1 - f[2]);
+    value += w * filled_points_[point_id(c[0] + dx, c[1] + dy, c[2] + dz)];
+  }
+  return value;
+}
+
+DensityError mean_density_error(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
+                                const DensityGrid& grid, DensityLookup lookup) {
+  return density_error_of(points, tets, grid, lookup);
+}
+
+DensityError mean_density_error(const TetMesh& mesh, const DensityGrid& grid, DensityLookup lookup) {
+  return density_error_of(mesh.points(), live_tets(mesh), grid, lookup);
+}
+
+}  // namespace femorph

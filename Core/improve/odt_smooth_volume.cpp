@@ -1,0 +1,116 @@
+// ODT vertex repositioning, thesis Eq. 2.31 with the barycentre rule of
+// Fig. 2.33 (b) and 2.6.5.4, step size halved against inversion.
+#include "improve/odt_smooth_volume.h"
+
+#include "improve/locally_delaunay.h"
+#include "mesh/tet_mesh.h"
+#include "quality/tet_quality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace femorph {
+
+namespace {
+
+/// Minimum stretch over `ball` with vertex v placed at p.
+double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p) {
+  double q = std::numeric_limits<double>::infinity();
+  for (index_t t : ball) {
+    const Tet& T = mesh.tet(t);
+    const Vec3* x[4];
+    for (int i = 0; i < 4; ++i) x[i] = T[i] == v ? &p : &mesh.point(T[i]);
+    q = std::min(q, tet_stretch(*x[0], *x[1], *x[2], *x[3]));
+  }
+  return q;
+}
+
+}  // namespace
+
+OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options) {
+  OdtSmoothReport report;
+  const index_t slots = mesh.vertex_slots();
+  const bool use_mask = !options.vertex_mask.empty();
+  const bool vertex_rho = !options.density && !options.vertex_density.empty();
+  std::vector<index_t> ball;
+
+  for (int sweep = 0; sweep < options.iterations; ++sweep) {
+    ++report.sweeps;
+    double max_step = 0;
+    for (index_t v = 0; v < slots; ++v) {
+      if (!mesh.vertex_alive(v) || mesh.vertex_class(v) != VertexClass::Inner) continue;
+      if (use_mask && (static_cast<std::size_t>(v) >= options.vertex_mask.size() || !options.vertex_mask[v])) continue;
+      mesh.vertex_ball(v, ball);
+      const Vec3 x = mesh.point(v);
+
+      // Eq. 2.31: density-weighted mean of the centres c_tau.
+      Vec3 sum_c = Vec3::Zero();
+      double sum_w = 0, sum_len = 0;
+      int n_len = 0;
+      for (index_t t : ball) {
+        const Tet& T = mesh.tet(t);
+        const Vec3 &a = mesh.point(T[0]), &b = mesh.point(T[1]), &c = mesh.point(T[2]), &d = mesh.point(T[3]);
+        const Vec3 bary = (a + b + c + d) / 4;
+        const double volume = tet_signed_volume(a, b, c, d);
+        double rho = 1;
+        if (options.density)
+          rho = options.density(bary);
+        else if (vertex_rho)
+          rho = (options.vertex_density[T[0]] + options.vertex_density[T[1]] + options.vertex_density[T[2]] +
+                 options.vertex_density[T[3]]) / 4;
+        // Barycentre for tets with a boundary vertex (Fig. 2.33 (b)) and for
+        // tets that are not Delaunay (2.6.5.4); circumcentre otherwise.
+        bool boundary = false;
+        for (index_t w : T) {
+          boundary = boundary || mesh.on_boundary(w);
+          if (w != v) {
+            sum_len += (mesh.point(w) - x).norm();
+            ++n_len;
+          }
+        }
+        Vec3 centre = bary;
+        if (!boundary && locally_delaunay(mesh, t)) {
+          if (!tet_circumcentre(a, b, c, d, &centre)) centre = bary;
+        }
+        const double weight = volume * rho;
+        sum_c += weight * centre;
+        sum_w += weight;
+      }
+      if (!(sum_w > 0) || n_len == 0) continue;
+      const Vec3 step = sum_c / sum_w - x;
+      const double length = sum_len / n_len;
+      const double relative = step.norm() / length;
+      if (!std::isfinite(relative) || relative <= options.tolerance * 1e-3) continue;  // already there
+
+      // Fig. 2.33 step-size rule: alpha = 1, halved while the move inverts a
+      // tet (or, with the guard, lowers the ball's minimum stretch).
+      const double old_min = options.quality_guard ? ball_min_stretch(mesh, ball, v, x) : 0;
+      double alpha = 1;
+      bool accepted = false;
+      for (int h = 0; h <= options.max_halvings; ++h, alpha *= 0.5) {
+        if (h > 0) ++report.halvings;
+        const Vec3 p = x + alpha * step;
+        if (options.quality_guard && ball_min_stretch(mesh, ball, v, p) < old_min) continue;
+        if (mesh.move_vertex(v, p) == OpStatus::Ok) {
+          accepted = true;
+          break;
+        }
+      }
+      if (accepted) {
+        ++report.moved;
+        max_step = std::max(max_step, alpha * relative);
+      } else {
+        ++report.refused;
+      }
+    }
+    report.last_max_step = max_step;
+    if (max_step <= options.tolerance) {
+      report.converged = true;
+      break;
+    }
+  }
+  return report;
+}
+
+}  // namespace femorph

@@ -1,0 +1,60 @@
+// ODT vertex repositioning of the inner vertices (thesis 2.6.1.1 Eq. 2.31,
+// 2.6.5.4 tetrahedron improvement).
+#pragma once
+
+#include "common/types.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace femorph {
+
+class TetMesh;
+
+struct OdtSmoothOptions {
+  /// Gauss-Seidel sweeps over the vertices (the thesis: two or three per step).
+  int iterations = 3;
+  /// Per vertex slot: only vertices with mask 1 move (region restriction).
+  /// Empty: every inner vertex may move.
+  std::vector<std::uint8_t> vertex_mask;
+  /// Density rho at a point (Eq. 2.29-2.31), evaluated at each tet's
+  /// barycentre to give rho_tau. Empty: uniform density 1.
+  std::function<double(const Vec3&)> density;
+  /// Per vertex slot density; rho_tau is the mean over the tet's four
+  /// vertices. Used when `density` is empty and this is not.
+  std::vector<double> vertex_density;
+  /// Stop when no vertex moved farther than tolerance times the mean length
+  /// of its edges in a sweep.
+  double tolerance = 1e-4;
+  /// Step halvings of alpha_ODT (Eq. 2.31) before a vertex is left in place.
+  int max_halvings = 6;
+  /// Quality guard: accept a step only when the minimum stretch (Eq. 1.1)
+  /// over the vertex's ball does not decrease. This makes the minimum stretch
+  /// of the mesh monotone; off gives the thesis' plain rule (step halved only
+  /// against inversion).
+  bool quality_guard = true;
+};
+
+struct OdtSmoothReport {
+  int sweeps = 0;               // sweeps run
+  std::size_t moved = 0;        // accepted moves, summed over sweeps
+  std::size_t refused = 0;      // vertices left in place after max_halvings
+  std::size_t halvings = 0;     // step halvings, summed
+  double last_max_step = 0;     // largest relative move of the last sweep
+  bool converged = false;       // last_max_step <= tolerance
+};
+
+/// Moves each free inner vertex toward the density-weighted mean of the
+/// centres c_tau of its ball (Eq. 2.31):
+///   x_new = (1 - a) x + a sum(|tau| rho_tau c_tau) / sum(|tau| rho_tau),
+/// c_tau the circumcentre, or the barycentre when tau has a boundary vertex
+/// (Fig. 2.33 (b)) or is not locally Delaunay (2.6.5.4: a neighbour's
+/// opposite vertex strictly inside its circumsphere, exact test). a starts at
+/// 1 and is halved while the move would invert a tet (TetMesh::move_vertex,
+/// exact) or, with the quality guard, lower the ball's minimum stretch.
+/// Vertices are visited in id order: deterministic.
+OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options = {});
+
+}  // namespace femorph

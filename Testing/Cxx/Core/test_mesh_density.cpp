@@ -1,0 +1,343 @@
+// Mesh density (thesis 2.6.3 Eq. 2.32, 2.33, 2.35) and its control by edge
+// split and collapse (Fig. 2.40).
+#include "improve/control_mesh_density.h"
+#include "improve/mesh_density.h"
+#include "mesh/tet_mesh.h"
+#include "quality/check_validity.h"
+#include "quality/tet_quality.h"
+
+#include "../test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <algorithm>
+#include <cstdio>
+#include <ostream>
+#include <random>
+#include <string>
+
+namespace femorph {
+namespace {
+
+using testing::make_cube_mesh;
+using testing::TestMesh;
+using testing::total_volume;
+
+// Kuhn cube (make_cube_mesh, no jitter, cell size h): an interior vertex has
+// 14 edges, 6 along the axes (h), 6 face diagonals (h sqrt 2) along
+// +-(1,1,0), +-(1,0,1), +-(0,1,1) and 2 body diagonals (h sqrt 3) along
+// +-(1,1,1); the corner (0,0,0) has half of each (3, 3, 1). Eq. 2.32 gives
+//   interior: (6 + 6/sqrt2 + 2/sqrt3) / (14 h)
+//   corner:   (3 + 3/sqrt2 + 1/sqrt3) / (7 h)   (the same value)
+// and a vertex in the middle of the face z = 0: 9 edges, 4 axis (in the
+// face) + 1 axis (inward), 2 face diagonals in the face, 2 out of it
+// ((1,0,1), (0,1,1)), 1 body diagonal: (5 + 4/sqrt2 + 1/sqrt3) / (10 h).
+TEST(MeshDensity, VertexDensityKuhnCubeClosedForm) {
+  const int n = 4;
+  const double h = 1.0 / n;
+  const TestMesh m = make_cube_mesh(n, 0.0, 1);
+  const std::vector<double> rho = vertex_density(m.points, m.tets);
+  const auto id = [n](int i, int j, int k) { return static_cast<std::size_t>((k * (n + 1) + j) * (n + 1) + i); };
+  const double s2 = std::sqrt(2.0), s3 = std::sqrt(3.0);
+  const double interior = (6 + 6 / s2 + 2 / s3) / (14 * h);
+  EXPECT_NEAR(rho[id(2, 2, 2)], interior, 1e-12);
+  EXPECT_NEAR(rho[id(1, 3, 2)], interior, 1e-12);
+  EXPECT_NEAR(rho[id(0, 0, 0)], interior, 1e-12);
+  EXPECT_NEAR(rho[id(n, n, n)], interior, 1e-12);
+  EXPECT_NEAR(rho[id(2, 2, 0)], (5 + 4 / s2 + 1 / s3) / (10 * h), 1e-12);
+  EXPECT_NEAR(interior * h, 0.8141, 1e-4);  // "1/h-ish"
+
+  // The TetMesh overload agrees, and so does a uniformly scaled mesh / s.
+  TetMesh mesh;
+  ASSERT_TRUE(mesh.build(m.points, m.tets).ok);
+  const std::vector<double> rho_mesh = vertex_density(mesh);
+  ASSERT_EQ(rho_mesh.size(), rho.size());
+  for (std::size_t i = 0; i < rho.size(); ++i) EXPECT_DOUBLE_EQ(rho_mesh[i], rho[i]);
+  std::vector<Vec3> scaled = m.points;
+  for (Vec3& p : scaled) p *= 2.0;
+  EXPECT_NEAR(vertex_density(scaled, m.tets)[id(2, 2, 2)], interior / 2, 1e-12);
+
+  // Unused points get 0.
+  std::vector<Vec3> extra = m.points;
+  extra.push_back(Vec3(5, 5, 5));
+  EXPECT_EQ(vertex_density(extra, m.tets).back(), 0.0);
+
+  // Mean edge length: per cell 3 axis, 3 face and 1 body diagonal edges
+  // plus the boundary's share; check against a direct count.
+  EXPECT_GT(mean_edge_length(m.points, m.tets), h);
+  EXPECT_LT(mean_edge_length(m.points, m.tets), h * s3);
+}
+
+double linear_field(const Vec3& p) { return 1.0 + 0.3 * p.x() + 0.2 * p.y() - 0.1 * p.z(); }
+
+TEST(MeshDensity, GridExactForLinearFields) {
+  // Jittered mesh: Eq. 2.33 reproduces linear vertex values at every grid
+  // point inside the mesh, and trilinear interpolation reproduces them between.
+  const TestMesh m = make_cube_mesh(5, 0.1, 7);
+  std::vector<double> values(m.points.size());
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = linear_field(m.points[i]);
+  DensityGrid grid;
+  ASSERT_TRUE(grid.build(m.points, m.tets, values, 0.125));
+  EXPECT_EQ(grid.cells()[0], 8);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int s = 0; s < 200; ++s) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    EXPECT_NEAR(grid.density_at(p), linear_field(p), 1e-12);
+    // rho_GC: mean of the 8 corners = value at the cell centre.
+    const Vec3 c = grid.origin() + grid.cell_size() * ((p - grid.origin()) / grid.cell_size()).array().floor().matrix() +
+                   Vec3::Constant(0.5 * grid.cell_size());
+    EXPECT_NEAR(grid.cell_density(p), linear_field(c), 1e-12);
+  }
+  for (int k = 0; k <= 8; ++k)
+    for (int j = 0; j <= 8; ++j)
+      for (int i = 0; i <= 8; ++i)
+        EXPECT_NEAR(grid.point_value(i, j, k), linear_field(Vec3(i, j, k) * 0.125), 1e-12);
+
+  // A spacing that overshoots the box: points outside the mesh are filled
+  // from their neighbours, points inside stay exact.
+  DensityGrid coarse;
+  ASSERT_TRUE(coarse.build(m.points, m.tets, values, 0.3));
+  EXPECT_EQ(coarse.cells()[0], 4);
+  EXPECT_EQ(coarse.point_value(4, 4, 4), 0.0);  // (1.2, 1.2, 1.2): outside
+  for (int s = 0; s < 100; ++s) {
+    const Vec3 p = 0.9 * Vec3(u(rng), u(rng), u(rng));
+    EXPECT_NEAR(coarse.density_at(p), linear_field(p), 1e-12);
+  }
+  const Vec3 outside(1.15, 1.15, 1.15);
+  EXPECT_GT(coarse.density_at(outside), 0.0);
+  EXPECT_GT(coarse.cell_density(outside), 0.0);
+  // Far outside: clamped to the grid.
+  EXPECT_DOUBLE_EQ(coarse.density_at(Vec3(-10, 0.5, 0.5)), coarse.density_at(Vec3(0, 0.5, 0.5)));
+
+  // Default spacing: half the mean edge length.
+  DensityGrid def;
+  ASSERT_TRUE(def.build(m.points, m.tets, values, 0.0));
+  EXPECT_DOUBLE_EQ(def.cell_size(), 0.5 * mean_edge_length(m.points, m.tets));
+  // Refusals.
+  EXPECT_FALSE(DensityGrid().build(m.points, {}, values, 0.1));
+  EXPECT_FALSE(DensityGrid().build(m.points, m.tets, values, 1e-4, 1000));
+  EXPECT_TRUE(DensityGrid().empty());
+}
+
+TEST(MeshDensity, MeanDensityErrorClosedForm) {
+  // Kuhn cube against a constant field rho: eps = |1/L - rho| / rho per edge.
+  const int n = 3;
+  const double h = 1.0 / n;
+  const TestMesh m = make_cube_mesh(n, 0.0, 1);
+  const double rho = 1.0 / h;  // axis edges exact
+  DensityGrid grid;
+  ASSERT_TRUE(grid.build(m.points, m.tets, std::vector<double>(m.points.size(), rho), 0.5 * h));
+  const DensityError e = mean_density_error(m.points, m.tets, grid);
+  // Edges: axis 3 n (n+1)^2, face diagonals 3 n^2 (n+1), body diagonals n^3.
+  const double axis = 3.0 * n * (n + 1) * (n + 1), face = 3.0 * n * n * (n + 1), body = 1.0 * n * n * n;
+  const double expected = (face * (1 - 1 / std::sqrt(2.0)) + body * (1 - 1 / std::sqrt(3.0))) / (axis + face + body);
+  EXPECT_EQ(e.edges, static_cast<std::size_t>(axis + face + body));
+  EXPECT_NEAR(e.mean, expected, 1e-12);
+  EXPECT_NEAR(e.max, 1 - 1 / std::sqrt(3.0), 1e-12);
+  TetMesh mesh;
+  ASSERT_TRUE(mesh.build(m.points, m.tets).ok);
+  EXPECT_NEAR(mean_density_error(mesh, grid).mean, expected, 1e-12);
+}
+
+struct DensityRun {
+  DensityControlStats stats;
+  CompactMesh out;
+  std::vector<Vec3> deformed;  // the input of the control, indexed as the reference
+  double reference_error = 0;  // Eq. 2.35 of the reference mesh against its own field
+  double min_stretch_before = 0;
+};
+
+double min_stretch(const std::vector<Vec3>& points, const std::vector<Tet>& tets) {
+  double worst = 1;
+  for (const Tet& t : tets)
+    worst = std::min(worst, tet_stretch(points[t[0]], points[t[1]], points[t[2]], points[t[3]]));
+  return worst;
+}
+
+/// The thesis case (b) in spirit (2.7.4, Fig. 2.53: the distance between two
+/// parallel planes changed): a cube mesh stretched by `factor` along x (all
+/// points scaled). The target field is built as in Fig. 2.40 (b): a grid
+/// over the deformed mesh whose grid points take the original vertex
+/// densities, interpolated in the deformed tets (same connectivity). So the
+/// density travels with the material and the field asks for the original
+/// edge lengths in the stretched domain. Cell size: half the mean edge
+/// length of the original mesh (the thesis' suggestion).
+DensityRun run_stretched(int n, double jitter, double factor, const DensityControlOptions& options) {
+  const TestMesh ref = make_cube_mesh(n, jitter, 11);
+  const std::vector<double> rho = vertex_density(ref.points, ref.tets);
+  const double cell = 0.5 * mean_edge_length(ref.points, ref.tets);
+  DensityRun run;
+  run.deformed = ref.points;
+  for (Vec3& p : run.deformed) p.x() *= factor;
+  DensityGrid grid;
+  EXPECT_TRUE(grid.build(run.deformed, ref.tets, rho, cell));
+  DensityGrid ref_grid;
+  EXPECT_TRUE(ref_grid.build(ref.points, ref.tets, rho, cell));
+  run.reference_error = mean_density_error(ref.points, ref.tets, ref_grid).mean;
+  run.min_stretch_before = min_stretch(run.deformed, ref.tets);
+  TetMesh mesh;
+  BuildOptions build;
+  build.face_regions = ref.face_regions;
+  EXPECT_TRUE(mesh.build(run.deformed, ref.tets, build).ok);
+  run.stats = control_mesh_density(mesh, grid, options);
+  EXPECT_TRUE(mesh.check_consistency().ok);
+  run.out = mesh.compact();
+  return run;
+}
+
+void expect_valid_box(const CompactMesh& out, double factor) {
+  const ValidityReport report = check_validity(out.points, out.tets);
+  EXPECT_TRUE(report.ok()) << report.summary();
+  for (const Tet& t : out.tets)
+    EXPECT_GT(tet_signed_volume(out.points[t[0]], out.points[t[1]], out.points[t[2]], out.points[t[3]]), 0.0);
+  EXPECT_NEAR(total_volume(out.points, out.tets), factor, 1e-12 * factor);
+  // Boundary faces stay on the cube's planes, exactly.
+  const double extent[3] = {factor, 1.0, 1.0};
+  std::size_t checked = 0;
+  for (std::size_t t = 0; t < out.tets.size(); ++t)
+    for (int f = 0; f < 4; ++f) {
+      const index_t region = out.face_regions[t][f];
+      if (region < 0) continue;
+      const int axis = region / 2;
+      const double plane = region % 2 ? extent[axis] : 0.0;
+      for (int q = 0; q < 3; ++q) {
+        EXPECT_EQ(out.points[out.tets[t][kTetFace[f][q]]][axis], plane);
+        ++checked;
+      }
+    }
+  EXPECT_GT(checked, 0u);
+}
+
+// The goal is the thesis' result (Table 2.14: 0.26 -> 0.15 on a
+// NETGEN mesh, density control inside Phased ODT smoothing). A Kuhn cube is
+// a poor reference for Eq. 2.35: its edges are h, h sqrt 2 and h sqrt 3
+// while 1 / rho = 1.228 h (VertexDensityKuhnCubeClosedForm), so the
+// reference itself scores 0.193 (jitter 0.1, boundary included); the interior
+// limit is (3 * 0.2284 + 3 * 0.1314 + 0.2908) / 7 = 0.196 (per cell 3 axis,
+// 3 face and 1 body diagonal edges, eps = |1 / (r rho h) - 1| with
+// rho h = 0.8141 and r = 1, sqrt 2, sqrt 3). Splits and
+// collapses alone (no smoothing: another part of 2.6) are asked to bring the
+// stretched mesh back to within 0.01 of the reference's own error at x1.6;
+// at x3 they stop at 0.305 (the short edges they leave need ODT smoothing to
+// be collapsible), bounded here at 0.32.
+struct StretchCase {
+  double factor;
+  double bound;  // on error_after.mean, absolute; < 0: reference_error + |bound|
+};
+
+void PrintTo(const StretchCase& c, std::ostream* os) { *os << "stretch x" << c.factor << ", bound " << c.bound; }
+
+class StretchedCube : public ::testing::TestWithParam<StretchCase> {};
+
+TEST_P(StretchedCube, DensityControlRecoversTheReferenceDensity) {
+  const double factor = GetParam().factor;
+  DensityControlOptions options;
+  const DensityRun run = run_stretched(6, 0.1, factor, options);
+  const DensityControlStats& s = run.stats;
+  const double after_min_stretch = min_stretch(run.out.points, run.out.tets);
+  std::printf("x%.1f: reference eps %.3f, before %.3f (max %.2f), after %.3f (max %.2f); %zu splits, %zu collapses, "
+              "refused %zu/%zu, %d rounds%s, %zu tets, min stretch %.3f -> %.3f\n",
+              factor, run.reference_error, s.error_before.mean, s.error_before.max, s.error_after.mean,
+              s.error_after.max, s.splits, s.collapses, s.refused_splits, s.refused_collapses, s.iterations,
+              s.converged ? " (converged)" : "", run.out.tets.size(), run.min_stretch_before, after_min_stretch);
+  EXPECT_GT(s.splits, 0u);
+  EXPECT_GT(s.collapses, 0u);
+  EXPECT_TRUE(s.converged);
+  const double bound = GetParam().bound < 0 ? run.reference_error - GetParam().bound : GetParam().bound;
+  EXPECT_LE(s.error_after.mean, bound);
+  EXPECT_LT(s.error_after.mean, 0.8 * s.error_before.mean);
+  expect_valid_box(run.out, factor);
+  // The stretch floor: nothing worse than the floor unless the input was.
+  EXPECT_GE(after_min_stretch, std::min(options.min_stretch, run.min_stretch_before));
+
+  // Deterministic.
+  const DensityRun again = run_stretched(6, 0.1, factor, options);
+  EXPECT_EQ(again.out.tets, run.out.tets);
+  EXPECT_EQ(again.out.points, run.out.points);
+}
+
+INSTANTIATE_TEST_SUITE_P(MeshDensity, StretchedCube,
+                         ::testing::Values(StretchCase{1.6, -0.01}, StretchCase{3.0, 0.32}),
+                         [](const ::testing::TestParamInfo<StretchCase>& info) {
+                           return "x" + std::to_string(static_cast<int>(std::lround(10 * info.param.factor)));
+                         });
+
+TEST(MeshDensity, ControlAtTheReferenceChangesLittle) {
+  // The undeformed mesh against its own field: the Kuhn edges lie within
+  // [beta2, beta1] / rho (ratios 0.81, 1.15, 1.41 inside, a little more at
+  // the boundary), so nothing or almost nothing happens.
+  DensityControlOptions options;
+  const DensityRun run = run_stretched(5, 0.05, 1.0, options);
+  std::printf("x1.0: before %.3f, after %.3f; %zu splits, %zu collapses\n", run.stats.error_before.mean,
+              run.stats.error_after.mean, run.stats.splits, run.stats.collapses);
+  EXPECT_TRUE(run.stats.converged);
+  EXPECT_LE(run.stats.splits + run.stats.collapses, 10u);
+  EXPECT_LE(run.stats.error_after.mean, run.stats.error_before.mean + 0.01);
+  expect_valid_box(run.out, 1.0);
+}
+
+TEST(MeshDensity, VertexMaskRestrictsTheControl) {
+  const double factor = 2.0;
+  // No vertex flagged: nothing changes.
+  DensityControlOptions none;
+  none.vertex_mask.assign(7 * 7 * 7, 0);
+  const DensityRun untouched = run_stretched(6, 0.1, factor, none);
+  EXPECT_EQ(untouched.stats.splits + untouched.stats.collapses, 0u);
+  EXPECT_EQ(untouched.out.points, untouched.deformed);
+
+  // Left half flagged: every point right of it is an original one (splits
+  // and collapses of flagged edges place vertices between flagged ends).
+  DensityControlOptions half;
+  const DensityRun probe = run_stretched(6, 0.1, factor, DensityControlOptions{});
+  half.vertex_mask.assign(probe.deformed.size(), 0);
+  for (std::size_t i = 0; i < probe.deformed.size(); ++i) half.vertex_mask[i] = probe.deformed[i].x() <= 0.5 * factor;
+  const DensityRun run = run_stretched(6, 0.1, factor, half);
+  EXPECT_GT(run.stats.splits, 0u);
+  EXPECT_LT(run.stats.splits, probe.stats.splits);
+  expect_valid_box(run.out, factor);
+  std::size_t right = 0;
+  for (const Vec3& p : run.out.points) {
+    if (p.x() <= 0.5 * factor) continue;
+    ++right;
+    EXPECT_NE(std::find(run.deformed.begin(), run.deformed.end(), p), run.deformed.end()) << p.transpose();
+  }
+  EXPECT_GT(right, 0u);
+}
+
+TEST(MeshDensity, ProjectionCallbackSeesNewBoundaryVertices) {
+  // An identity projection is called for new boundary vertices only and
+  // changes nothing.
+  const double factor = 1.6;
+  DensityControlOptions plain;
+  const DensityRun reference = run_stretched(4, 0.1, factor, plain);
+  DensityControlOptions options;
+  std::size_t calls = 0, off_boundary = 0;
+  const Vec3 box(factor, 1, 1);
+  options.project = [&](index_t, const Vec3& p) {
+    ++calls;
+    bool on_face = false;
+    for (int a = 0; a < 3; ++a) on_face = on_face || p[a] == 0.0 || p[a] == box[a];
+    if (!on_face) ++off_boundary;
+    return p;
+  };
+  const DensityRun run = run_stretched(4, 0.1, factor, options);
+  EXPECT_GT(calls, 0u);
+  EXPECT_EQ(off_boundary, 0u);
+  EXPECT_EQ(run.stats.projections, 0u);
+  EXPECT_EQ(run.out.points, reference.out.points);
+  EXPECT_EQ(run.out.tets, reference.out.tets);
+
+  // A projection that would push vertices out of the box is applied only
+  // where the mesh stays valid; the volume changes but the mesh stays valid.
+  DensityControlOptions bulge;
+  bulge.project = [&](index_t, const Vec3& p) { return Vec3(p + 0.01 * (p - 0.5 * box).normalized()); };
+  const DensityRun bulged = run_stretched(4, 0.1, factor, bulge);
+  EXPECT_GT(bulged.stats.projections, 0u);
+  const ValidityReport report = check_validity(bulged.out.points, bulged.out.tets);
+  EXPECT_TRUE(report.ok()) << report.summary();
+}
+
+}  // namespace
+}  // namespace femorph
