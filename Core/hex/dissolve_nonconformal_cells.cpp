@@ -86,6 +86,17 @@ std::size_t dissolve_nonconformal_cells(const std::vector<Candidate>& candidates
     return true;
   };
 
+  // Adopts candidate i when its tets are free and all its quads conformal.
+  auto adopt_if_conformal = [&](index_t i) {
+    const Candidate& c = candidates[i];
+    if (!all_free(c) || !may_be_conformal(c)) return false;
+    Cell cell = candidate_cell(c, i, points, tets, adjacency);
+    if (offending(cell)) return false;
+    for (int k = 0; k < c.num_tets; ++k) cell_of_tet[c.tets[k]] = static_cast<index_t>(cells.size());
+    cells.push_back(cell);
+    return true;
+  };
+
   std::size_t dissolved = 0;
   std::vector<index_t> dirty(cells.size()), bad, fixes, cell_fixes, next;
   for (std::size_t c = 0; c < cells.size(); ++c) dirty[c] = static_cast<index_t>(c);
@@ -128,21 +139,8 @@ std::size_t dissolve_nonconformal_cells(const std::vector<Candidate>& candidates
     }
     // Adopted in priority order when all their quads are conformal.
     sort_unique(fixes);
-    for (index_t i : fixes) {
-      const Candidate& c = candidates[i];
-      if (!all_free(c) || !may_be_conformal(c)) continue;
-      Cell cell = candidate_cell(c, i, points, tets, adjacency);
-      const std::array<std::int8_t, 4>* quads = nullptr;
-      const int nq = cell_quads(cell.kind, quads);
-      bool conformal = true;
-      for (int q = 0; q < nq && conformal; ++q)
-        conformal = quad_is_conformal(cell, q, cells, cell_of_tet, tets, adjacency);
-      if (!conformal) continue;
-      const index_t id = static_cast<index_t>(cells.size());
-      for (int k = 0; k < c.num_tets; ++k) cell_of_tet[c.tets[k]] = id;
-      cells.push_back(cell);
-      add_cells_around(cells.back(), cell_of_tet, adjacency, next);
-    }
+    for (index_t i : fixes)
+      if (adopt_if_conformal(i)) add_cells_around(cells.back(), cell_of_tet, adjacency, next);
 
     // The cells still offending go back to tets.
     for (index_t c : bad) {
@@ -160,19 +158,8 @@ std::size_t dissolve_nonconformal_cells(const std::vector<Candidate>& candidates
   // Greedy again on the tets left, for candidates whose quads are all
   // conformal (on the boundary, or matching a cell's quad); adopting one
   // never makes another cell's quad non-conformal.
-  for (std::size_t i = 0; i < candidates.size(); ++i) {
-    const Candidate& c = candidates[i];
-    if (banned[i] || !all_free(c) || !may_be_conformal(c)) continue;
-    Cell cell = candidate_cell(c, static_cast<index_t>(i), points, tets, adjacency);
-    const std::array<std::int8_t, 4>* quads = nullptr;
-    const int nq = cell_quads(cell.kind, quads);
-    bool conformal = true;
-    for (int q = 0; q < nq && conformal; ++q)
-      conformal = quad_is_conformal(cell, q, cells, cell_of_tet, tets, adjacency);
-    if (!conformal) continue;
-    for (int k = 0; k < c.num_tets; ++k) cell_of_tet[c.tets[k]] = static_cast<index_t>(cells.size());
-    cells.push_back(cell);
-  }
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (!banned[i]) adopt_if_conformal(static_cast<index_t>(i));
   return dissolved;
 }
 
