@@ -93,17 +93,20 @@ double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, i
 /// below the old worst.
 bool below_floor(double new_min, double old_min, double floor) { return new_min < floor && new_min < old_min; }
 
+enum class Projection { NotNeeded, Moved, Refused };
+
 /// Moves the boundary vertex v to options.project(v, p) when that keeps its
-/// ball valid and above the floor. Returns true if moved.
-bool try_project(TetMesh& mesh, index_t v, const DensityControlOptions& options, std::vector<index_t>& ball) {
+/// ball valid and above the floor.
+Projection try_project(TetMesh& mesh, index_t v, const DensityControlOptions& options, std::vector<index_t>& ball) {
   const Vec3 current = mesh.point(v);
   const Vec3 target = options.project(v, current);
-  if (!target.allFinite() || target == current) return false;
+  if (target == current) return Projection::NotNeeded;
+  if (!target.allFinite()) return Projection::Refused;
   mesh.vertex_ball(v, ball);
   const double old_min = ball_min_stretch(mesh, ball, kInvalidIndex, current);
   const double new_min = ball_min_stretch(mesh, ball, v, target);
-  if (below_floor(new_min, old_min, options.min_stretch)) return false;
-  return mesh.move_vertex(v, target) == OpStatus::Ok;
+  if (below_floor(new_min, old_min, options.min_stretch)) return Projection::Refused;
+  return mesh.move_vertex(v, target) == OpStatus::Ok ? Projection::Moved : Projection::Refused;
 }
 
 }  // namespace
@@ -148,15 +151,24 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
       if (stats) ++stats->refused_splits;
       continue;
     }
+    // The midpoint of a planar boundary edge is on its plane; curved regions
+    // are projected by the caller's callback. A new vertex that cannot be
+    // put on its surface is taken back (the half-edge collapse onto an end
+    // restores the tets): boundary vertices stay on the fitted surfaces.
+    if (boundary && options.project && mesh.on_boundary(v)) {
+      const Projection p = try_project(mesh, v, options, ball);
+      if (p == Projection::Refused) {
+        mesh.half_edge_collapse(v, top.a);
+        if (stats) ++stats->refused_splits;
+        continue;
+      }
+      if (p == Projection::Moved && stats) ++stats->projections;
+    }
     ++splits;
     if (!mask.empty()) {
       if (static_cast<std::size_t>(v) >= mask.size()) mask.resize(static_cast<std::size_t>(v) + 1, 0);
       mask[v] = 1;
     }
-    // The midpoint of a planar boundary edge is on its plane; curved regions
-    // are projected by the caller's callback.
-    if (boundary && options.project && mesh.on_boundary(v) && try_project(mesh, v, options, ball) && stats)
-      ++stats->projections;
   }
   return splits;
 }

@@ -141,7 +141,8 @@ struct HeapEntry {
 
 class DegenerateRemover {
  public:
-  DegenerateRemover(TetMesh& mesh, const DegenerateRemovalOptions& options) : m_(mesh), opt_(options) {}
+  DegenerateRemover(TetMesh& mesh, const DegenerateRemovalOptions& options)
+      : m_(mesh), opt_(options), mask_size_(options.vertex_mask.size()) {}
 
   double stretch(index_t t) const {
     const Tet& T = m_.tet(t);
@@ -152,7 +153,11 @@ class DegenerateRemover {
   /// remove_inverted_elements).
   bool is_target(index_t t, double* q) const {
     *q = stretch(t);
-    return *q < opt_.stretch_threshold && m_.orientation(t) >= 0;
+    if (!(*q < opt_.stretch_threshold)) return false;
+    if (!opt_.vertex_mask.empty())
+      for (const index_t v : m_.tet(t))
+        if (static_cast<std::size_t>(v) < mask_size_ && !opt_.vertex_mask[v]) return false;
+    return m_.orientation(t) >= 0;
   }
 
   /// Edge split at p; a new boundary vertex is projected when asked.
@@ -329,6 +334,7 @@ class DegenerateRemover {
  private:
   TetMesh& m_;
   const DegenerateRemovalOptions& opt_;
+  std::size_t mask_size_;  // vertex slots past it were made by splits
   std::vector<index_t> affected_;
   double worse_than_ = 0;  // stretch of the tet being removed
 };

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 namespace femorph {
 
@@ -68,6 +69,10 @@ struct DegenerateRemovalOptions {
   ProjectVertexFn project;
   /// Safety bound on successful operations; 0: 20 per initial heap entry + 100.
   std::size_t max_operations = 0;
+  /// Restriction to a region: one flag per vertex slot; only tets whose four
+  /// vertices are flagged are removed (vertices a split creates count as
+  /// flagged). Empty: every tet.
+  std::vector<std::uint8_t> vertex_mask;
 };
 
 struct DegenerateRemovalStats {

@@ -129,6 +129,9 @@ struct XmlProperty
   double Default = 0;
   double Min = 0, Max = 0;
   bool Advanced = false;
+  /// A StringVectorProperty: its default_values, no domain required.
+  bool IsString = false;
+  std::string DefaultString;
 };
 
 /// Every property of `proxy` that has a command (inputs aside) is in
@@ -158,6 +161,13 @@ inline void CheckFilterProperties(vtkXMLDataElement* proxy,
     seen.insert(command);
     const XmlProperty& x = it->second;
     const char* value = e->GetAttribute("default_values");
+    if (x.IsString)
+    {
+      EXPECT_EQ(std::string(value ? value : ""), x.DefaultString) << command;
+      EXPECT_EQ(std::string(e->GetName()), "StringVectorProperty") << command;
+      EXPECT_NE(e->FindNestedElementWithName("Documentation"), nullptr) << command;
+      continue;
+    }
     EXPECT_TRUE(value && std::stod(value) == x.Default)
       << command << ": default " << (value ? value : "missing") << ", C++ " << x.Default;
     const char* visibility = e->GetAttribute("panel_visibility");

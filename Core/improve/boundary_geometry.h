@@ -1,0 +1,71 @@
+// The fitted surfaces and curves the boundary vertices of an improved mesh
+// must stay on (thesis 2.6.1.3: "the new vertex is moved onto the fitted
+// surface"; 2.6.5: vertices on curved regions move in the parameter space of
+// their surface or curve). Built from the segmentation (Core/segment); the
+// constraint of a vertex is found from the mesh itself (the regions of its
+// boundary faces), so it stays right after splits and collapses.
+#pragma once
+
+#include "common/types.h"
+#include "geometry/curve_primitive.h"
+#include "geometry/surface_primitive.h"
+
+#include <array>
+#include <vector>
+
+namespace femorph {
+
+class TetMesh;
+
+struct BoundaryGeometry {
+  /// Fitted surface per region id (the ids of TetMesh::face_region). Type
+  /// Unknown (or a region id past the end): not fitted, its vertices stay.
+  std::vector<SurfacePrimitive> regions;
+  /// Fitted boundary curves and the two regions each separates.
+  std::vector<CurvePrimitive> curves;
+  std::vector<std::array<index_t, 2>> curve_regions;
+
+  const SurfacePrimitive* region(index_t r) const {
+    return r >= 0 && r < static_cast<index_t>(regions.size()) && regions[r].type != SurfaceType::Unknown
+               ? &regions[r]
+               : nullptr;
+  }
+};
+
+/// Where a boundary vertex may go.
+struct VertexConstraint {
+  enum Kind : std::uint8_t {
+    Free,     ///< inner vertex
+    Surface,  ///< on one fitted region: `surface`
+    Curve,    ///< on a curve between regions a and b: `curve` (may be null)
+              ///< and the two surfaces
+    Fixed,    ///< a corner, or a region or curve without a fit
+  };
+  Kind kind = Free;
+  index_t region_a = kInvalidIndex, region_b = kInvalidIndex;
+  const SurfacePrimitive* surface = nullptr;    ///< Surface: its region; Curve: region a
+  const SurfacePrimitive* surface_b = nullptr;  ///< Curve: region b
+  const CurvePrimitive* curve = nullptr;        ///< Curve: the fitted curve, when one is known
+};
+
+/// The constraint of vertex v from the regions of its boundary faces and its
+/// class: Inner -> Free; one region -> Surface (Fixed when the region has no
+/// fit); two regions -> Curve (Fixed when either region has no fit and no
+/// line or circle curve between them is known); Corner or more -> Fixed.
+/// Among several curves between the same two regions the one closest to v.
+VertexConstraint vertex_constraint(const TetMesh& mesh, const BoundaryGeometry& geometry, index_t v);
+
+/// Closest point to p that satisfies c: the surface's closest point; on a
+/// line or circle (arc) the curve's; on other curves alternating projections
+/// onto the two surfaces (converging to their intersection); Fixed: nullptr
+/// result (returns false); Free: p.
+bool project_to_constraint(const VertexConstraint& c, const Vec3& p, Vec3* out);
+
+/// Distance from p to the constraint (0 for Free, NaN for Fixed).
+double constraint_distance(const VertexConstraint& c, const Vec3& p);
+
+/// Closest point of a line or circle / circular arc (as a full circle); other
+/// curve types: p unchanged, returns false.
+bool closest_point_on_curve(const CurvePrimitive& curve, const Vec3& p, Vec3* out);
+
+}  // namespace femorph

@@ -1,0 +1,140 @@
+// Shape approximation accuracy control, thesis 2.6.4.
+#include "improve/control_shape_accuracy.h"
+
+#include "mesh/tet_mesh.h"
+#include "quality/tet_quality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+namespace femorph {
+
+namespace {
+
+bool curved(const SurfacePrimitive* s) { return s && s->type != SurfaceType::Plane; }
+
+/// The three edges of boundary face f of tet t (local vertex f is opposite).
+template <class Fn>
+void for_face_edges(const TetMesh& mesh, index_t t, int f, Fn&& fn) {
+  const Tet& T = mesh.tet(t);
+  index_t v[3];
+  for (int i = 0, k = 0; i < 4; ++i)
+    if (i != f) v[k++] = T[i];
+  for (int e = 0; e < 3; ++e) fn(v[e], v[(e + 1) % 3]);
+}
+
+double min_stretch_of(const TetMesh& mesh, const std::vector<index_t>& tets) {
+  double q = std::numeric_limits<double>::infinity();
+  for (const index_t t : tets) {
+    const Tet& T = mesh.tet(t);
+    q = std::min(q, tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])));
+  }
+  return q;
+}
+
+bool masked(const std::vector<std::uint8_t>& mask, index_t v) {
+  return mask.empty() || static_cast<std::size_t>(v) >= mask.size() || mask[v];
+}
+
+struct Entry {
+  double error;
+  index_t a, b, region;
+  bool operator<(const Entry& o) const {  // max-heap on error, ties by ids
+    if (error != o.error) return error < o.error;
+    if (a != o.a) return a > o.a;
+    return b > o.b;
+  }
+};
+
+}  // namespace
+
+std::vector<double> region_geometric_error(const TetMesh& mesh, const BoundaryGeometry& geometry) {
+  std::vector<double> error(geometry.regions.size(), std::numeric_limits<double>::quiet_NaN());
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    for (int f = 0; f < 4; ++f) {
+      if (!mesh.is_boundary_face(t, f)) continue;
+      const index_t r = mesh.face_region(t, f);
+      const SurfacePrimitive* s = geometry.region(r);
+      if (!curved(s)) continue;
+      for_face_edges(mesh, t, f, [&](index_t a, index_t b) {
+        const double d = distance(*s, 0.5 * (mesh.point(a) + mesh.point(b)));
+        if (!(d <= error[r])) error[r] = std::isnan(error[r]) ? d : std::max(error[r], d);
+      });
+    }
+  }
+  return error;
+}
+
+AccuracyControlStats control_shape_accuracy(TetMesh& mesh, const BoundaryGeometry& geometry,
+                                            const std::vector<double>& acceptable,
+                                            const AccuracyControlOptions& options) {
+  AccuracyControlStats stats;
+  const auto limit = [&](index_t r) {
+    return r >= 0 && static_cast<std::size_t>(r) < acceptable.size() && acceptable[r] > 0
+               ? acceptable[r]
+               : std::numeric_limits<double>::quiet_NaN();
+  };
+  // Edges of boundary face f of t over their region's limit go on the heap.
+  std::priority_queue<Entry> heap;
+  const auto push_face = [&](index_t t, int f) {
+    const index_t r = mesh.face_region(t, f);
+    const SurfacePrimitive* s = geometry.region(r);
+    const double lim = limit(r);
+    if (!curved(s) || !(lim > 0)) return;
+    for_face_edges(mesh, t, f, [&](index_t a, index_t b) {
+      if (!masked(options.vertex_mask, a) || !masked(options.vertex_mask, b)) return;
+      const double d = distance(*s, 0.5 * (mesh.point(a) + mesh.point(b)));
+      if (d > lim) heap.push({d, std::min(a, b), std::max(a, b), r});  // once per face: stale copies are skipped
+    });
+  };
+  if (acceptable.empty()) return stats;
+  for (index_t t = 0; t < mesh.tet_slots(); ++t)
+    if (mesh.tet_alive(t))
+      for (int f = 0; f < 4; ++f)
+        if (mesh.is_boundary_face(t, f)) push_face(t, f);
+  stats.edges_over = heap.size();  // each edge once per region it bounds
+  const std::size_t max_splits = options.max_splits ? options.max_splits : 4 * heap.size() + 100;
+
+  std::vector<index_t> ring, ball;
+  while (!heap.empty() && stats.splits < max_splits) {
+    const Entry e = heap.top();
+    heap.pop();
+    if (!mesh.vertex_alive(e.a) || !mesh.vertex_alive(e.b)) continue;
+    bool boundary = false;
+    if (!mesh.edge_ring(e.a, e.b, ring, &boundary) || !boundary) continue;
+    const double old_min = min_stretch_of(mesh, ring);
+    index_t v = kInvalidIndex;
+    if (mesh.split_edge(e.a, e.b, nullptr, &v, ring.front()) != OpStatus::Ok) {
+      ++stats.refused;
+      continue;
+    }
+    // Fig. 2.41 (b): the new vertex goes onto the fitted surface (or curve).
+    const VertexConstraint c = vertex_constraint(mesh, geometry, v);
+    Vec3 q;
+    bool ok = c.kind == VertexConstraint::Surface || c.kind == VertexConstraint::Curve;
+    ok = ok && project_to_constraint(c, mesh.point(v), &q) && mesh.move_vertex(v, q) == OpStatus::Ok;
+    if (ok) {
+      mesh.vertex_ball(v, ball);
+      const double new_min = min_stretch_of(mesh, ball);
+      ok = !(new_min < options.min_stretch && new_min < old_min);
+    }
+    if (!ok) {
+      mesh.half_edge_collapse(v, e.a);  // restores the tets of the edge
+      ++stats.refused;
+      continue;
+    }
+    ++stats.splits;
+    // The new boundary edges at v (halves and the edges to the opposite
+    // vertices) are checked again.
+    mesh.vertex_ball(v, ball);
+    for (const index_t t : ball)
+      for (int f = 0; f < 4; ++f)
+        if (mesh.is_boundary_face(t, f) && mesh.tet(t)[f] != v) push_face(t, f);
+  }
+  return stats;
+}
+
+}  // namespace femorph

@@ -1,0 +1,228 @@
+// Phased ODT smoothing, thesis 2.6.1.2 (Fig. 2.34).
+#include "improve/phased_odt.h"
+
+#include "improve/control_mesh_density.h"
+#if __has_include("improve/flip_surface_edges.h") && __has_include("improve/odt_smooth_curves.h")
+#define FEMORPH_HAVE_PHASE12 1
+#include "improve/flip_surface_edges.h"
+#include "improve/odt_smooth_curves.h"
+#include "improve/odt_smooth_surface.h"
+#endif
+#include "improve/improve_tets_by_flips.h"
+#include "improve/improve_volume.h"
+#include "improve/odt_smooth_volume.h"
+#include "improve/remove_degenerate_elements.h"
+#include "improve/remove_inverted_elements.h"
+#include "mesh/tet_mesh.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace femorph {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::size_t count_inverted(const TetMesh& mesh, std::vector<index_t>* ids = nullptr) {
+  std::size_t n = 0;
+  for (index_t t = 0; t < mesh.tet_slots(); ++t)
+    if (mesh.tet_alive(t) && mesh.orientation(t) < 0) {
+      ++n;
+      if (ids) ids->push_back(t);
+    }
+  return n;
+}
+
+/// Vertices that may change: all of whose tets are flagged (a tet inherits
+/// the flag of the input tet it comes from), and not on the boundary when it
+/// is fixed. Empty: every vertex.
+std::vector<std::uint8_t> movable_vertices(const TetMesh& mesh, const PhasedOdtOptions& options) {
+  const std::vector<std::uint8_t>& tet_mask = options.tet_mask;
+  if (tet_mask.empty() && !options.fix_boundary) return {};
+  std::vector<std::uint8_t> in(static_cast<std::size_t>(mesh.vertex_slots()), 0), out(in.size(), 0);
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const index_t o = mesh.tet_origin(t);
+    const bool flagged =
+        tet_mask.empty() || (o >= 0 && static_cast<std::size_t>(o) < tet_mask.size() && tet_mask[o]);
+    for (const index_t v : mesh.tet(t)) (flagged ? in : out)[v] = 1;
+  }
+  for (std::size_t v = 0; v < in.size(); ++v)
+    in[v] = in[v] && !out[v] && !(options.fix_boundary && mesh.on_boundary(static_cast<index_t>(v)));
+  return in;
+}
+
+/// The vertices whose edges a phase's density control works on: curve and
+/// corner vertices (phase 1), boundary vertices (phase 2), all (phase 3);
+/// and movable.
+std::vector<char> phase_vertices(const TetMesh& mesh, int phase, const std::vector<std::uint8_t>& movable) {
+  std::vector<char> mask(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
+    if (!mesh.vertex_alive(v)) continue;
+    if (!movable.empty() && !movable[v]) continue;
+    const VertexClass c = mesh.vertex_class(v);
+    mask[v] = phase == 2 || (phase == 1 && c != VertexClass::Inner) ||
+              (phase == 0 && (c == VertexClass::Curve || c == VertexClass::Corner));
+  }
+  return mask;
+}
+
+}  // namespace
+
+PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const PhasedOdtTarget& target,
+                          const PhasedOdtOptions& options) {
+  const auto start = Clock::now();
+  PhasedOdtStats stats;
+  live_stretch_range(mesh, &stats.min_stretch_before, &stats.mean_stretch_before);
+  stats.tets_before = mesh.live_tets();
+  stats.inverted_before = count_inverted(mesh);
+  const bool density = options.density_control && target.density && !target.density->empty();
+  if (target.density && !target.density->empty())
+    stats.density_error_before = mean_density_error(mesh, *target.density, DensityLookup::Cell);
+
+  // New and moved boundary vertices go onto their fitted surface or curve
+  // (2.6.1.3); corners and vertices of unknown regions keep the position given.
+  const ProjectVertexFn project = [&mesh, &geometry](index_t v, const Vec3& p) {
+    const VertexConstraint c = vertex_constraint(mesh, geometry, v);
+    Vec3 q;
+    if ((c.kind == VertexConstraint::Surface || c.kind == VertexConstraint::Curve) && project_to_constraint(c, p, &q))
+      return q;
+    return p;
+  };
+  const auto report = [&](double fraction, const char* phase) {
+    if (stats.aborted) return false;
+    if (options.progress && !options.progress(fraction, phase)) stats.aborted = true;
+    return !stats.aborted;
+  };
+  const auto remove_inverted = [&]() {
+    InvertedRemovalOptions io;
+    io.project = project;
+    const InvertedRemovalStats is = remove_inverted_elements(mesh, io);
+    stats.removed_inverted += is.initial_inverted - is.remaining_inverted;
+  };
+
+  // Fig. 2.34 (B) first for inverted tets: every later step needs a valid mesh.
+  if (options.remove_inverted && stats.inverted_before > 0) remove_inverted();
+
+  static const char* const kPhaseNames[3] = {"boundary curves", "surface triangles", "tetrahedra"};
+  const bool enabled[3] = {options.smooth_curves, options.smooth_surfaces, options.smooth_volume};
+  for (int phase = 0; phase < 3; ++phase) {
+    if (!enabled[phase]) continue;
+    const auto phase_start = Clock::now();
+    for (int loop = 0; loop < std::max(1, options.max_loops); ++loop) {
+      if (!report((phase + static_cast<double>(loop) / std::max(1, options.max_loops)) / 3.0, kPhaseNames[phase]))
+        break;
+      ++stats.loops[phase];
+      const std::vector<std::uint8_t> movable = movable_vertices(mesh, options);
+
+      // (B) degenerated and inverted element removal (2.6.2).
+      if (options.remove_degenerate) {
+        DegenerateRemovalOptions dro;
+        dro.stretch_threshold = options.degenerate_threshold;
+        dro.project = project;
+        dro.vertex_mask = movable;
+        const DegenerateRemovalStats ds = remove_degenerate_elements(mesh, dro);
+        stats.removed_slivers += ds.removed_slivers;
+        stats.removed_caps += ds.removed_caps;
+        stats.removed_spades += ds.removed_spades;
+      }
+      if (options.remove_inverted && count_inverted(mesh) > 0) remove_inverted();
+
+      // (C) mesh density control (2.6.3), one split and one collapse pass
+      // per loop, on the edges of this phase.
+      std::size_t operations = 0;
+      if (density) {
+        DensityControlOptions dco;
+        dco.split_threshold = options.split_threshold;
+        dco.collapse_threshold = options.collapse_threshold;
+        dco.min_stretch = options.degenerate_threshold;
+        dco.max_iterations = 1;
+        dco.project = project;
+        dco.vertex_mask = phase_vertices(mesh, phase, movable);
+        const DensityControlStats dcs = control_mesh_density(mesh, *target.density, dco);
+        stats.splits += dcs.splits;
+        stats.collapses += dcs.collapses;
+        operations += dcs.splits + dcs.collapses;
+      }
+      // (C) shape approximation accuracy control (2.6.4), on the boundary
+      // (in every phase: the density control of phase 3 collapses boundary
+      // edges too).
+      if (options.accuracy_control && !target.acceptable_error.empty()) {
+        AccuracyControlOptions aco;
+        aco.vertex_mask = movable;
+        aco.min_stretch = options.degenerate_threshold;
+        const AccuracyControlStats as = control_shape_accuracy(mesh, geometry, target.acceptable_error, aco);
+        stats.splits += as.splits;
+        stats.accuracy_splits += as.splits;
+        operations += as.splits;
+      }
+
+      // (A) ODT smoothing of this phase's elements (2.6.5), then its flips.
+      const std::vector<std::uint8_t> smooth_mask = movable_vertices(mesh, options);
+      if (phase < 2) {
+#ifdef FEMORPH_HAVE_PHASE12
+        BoundarySmoothOptions bso;
+        bso.iterations = options.odt_iterations;
+        bso.vertex_mask = smooth_mask;
+        const OdtSmoothReport r =
+            phase == 0 ? odt_smooth_curves(mesh, geometry, bso) : odt_smooth_surface(mesh, geometry, bso);
+        stats.moved_vertices += r.moved;
+        if (phase == 1 && options.flips) {
+          SurfaceFlipOptions sfo;
+          sfo.vertex_mask = smooth_mask;
+          sfo.min_stretch = options.degenerate_threshold;
+          stats.surface_flips += flip_surface_edges(mesh, geometry, sfo).flips;
+        }
+#endif
+      } else {
+        OdtSmoothOptions oso;
+        oso.iterations = options.odt_iterations;
+        oso.vertex_mask = smooth_mask;
+        stats.moved_vertices += odt_smooth_volume(mesh, oso).moved;
+        if (options.flips) {
+          FlipImproveOptions fo;
+          fo.vertex_mask = smooth_mask;
+          const FlipImproveReport fr = improve_tets_by_flips(mesh, fo);
+          stats.flips_23 += fr.flips_23;
+          stats.flips_32 += fr.flips_32;
+          stats.flips_44 += fr.flips_44;
+        }
+      }
+      // Fig. 2.34: the loop ends when no density or accuracy operation is left.
+      if (operations == 0) break;
+    }
+    // The tetrahedra get a few more rounds of smoothing and flips once the
+    // density has settled (thesis: two or three ODT sweeps per step).
+    if (phase == 2 && !stats.aborted && report(0.95, kPhaseNames[2])) {
+      ImproveVolumeOptions ivo;
+      ivo.rounds = 3;
+      ivo.smooth.iterations = options.odt_iterations;
+      ivo.smooth.vertex_mask = movable_vertices(mesh, options);
+      if (options.flips) {
+        const ImproveVolumeStats vs = improve_volume(mesh, ivo);
+        stats.moved_vertices += vs.moved;
+        stats.flips_23 += vs.flips_23;
+        stats.flips_32 += vs.flips_32;
+        stats.flips_44 += vs.flips_44;
+      } else {
+        for (int round = 0; round < ivo.rounds; ++round) stats.moved_vertices += odt_smooth_volume(mesh, ivo.smooth).moved;
+      }
+    }
+    stats.phase_seconds[phase] = seconds_since(phase_start);
+    if (stats.aborted) break;
+  }
+
+  live_stretch_range(mesh, &stats.min_stretch_after, &stats.mean_stretch_after);
+  stats.tets_after = mesh.live_tets();
+  count_inverted(mesh, &stats.remaining_inverted);
+  if (target.density && !target.density->empty())
+    stats.density_error_after = mean_density_error(mesh, *target.density, DensityLookup::Cell);
+  stats.geometric_error_after = region_geometric_error(mesh, geometry);
+  stats.seconds = seconds_since(start);
+  return stats;
+}
+
+}  // namespace femorph

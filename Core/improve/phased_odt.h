@@ -1,0 +1,102 @@
+// Phased ODT smoothing, the quality improvement method of thesis 2.6
+// (Fig. 2.34): the modified ODT loop -- degenerated and inverted element
+// removal, mesh density control, shape approximation accuracy control, ODT
+// smoothing -- run on the boundary curves, the surface triangles and the
+// tetrahedra, in that order, each phase repeated until no density or accuracy
+// operation is left.
+#pragma once
+
+#include "common/types.h"
+#include "improve/boundary_geometry.h"
+#include "improve/control_shape_accuracy.h"
+#include "improve/mesh_density.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace femorph {
+
+class TetMesh;
+
+struct PhasedOdtOptions {
+  /// Phases of Fig. 2.34 (A).
+  bool smooth_curves = true;
+  bool smooth_surfaces = true;
+  bool smooth_volume = true;
+  /// Steps of the modified ODT loop (Fig. 2.34 (B), (C)).
+  bool remove_degenerate = true;
+  bool remove_inverted = true;
+  bool density_control = true;
+  bool accuracy_control = true;
+  /// Flips 2-3 / 3-2 / 4-4 in the volume phase and surface edge flips
+  /// (Fig. 2.45) in the surface phase.
+  bool flips = true;
+  /// ODT sweeps per step of the loop (thesis: "two or three times").
+  int odt_iterations = 3;
+  /// Repetitions of the modified ODT loop per phase at most.
+  int max_loops = 8;
+  /// Mesh density thresholds beta1, beta2 (2.6.3).
+  double split_threshold = 1.5;
+  double collapse_threshold = 0.67;
+  /// gamma_st, stretch below which a tet is degenerated (2.6.2).
+  double degenerate_threshold = 0.05;
+  /// Restriction to a region (Deform, Adapt): one flag per tet slot; only
+  /// vertices all of whose tets are flagged move, and only edges between such
+  /// vertices are split, collapsed or flipped. Empty: the whole mesh.
+  std::vector<std::uint8_t> tet_mask;
+  /// Keep every boundary vertex where it is (no segmentation): only inner
+  /// vertices move, only edges between inner vertices are split or
+  /// collapsed. Inverted tets are still repaired, which may remove a
+  /// boundary vertex.
+  bool fix_boundary = false;
+  /// Progress in [0, 1] with the phase's name; return false to abort (the
+  /// mesh is then valid but only partly improved).
+  std::function<bool(double fraction, const char* phase)> progress;
+};
+
+/// What the improvement aims at, from the reference mesh (before the
+/// deformation).
+struct PhasedOdtTarget {
+  /// Target mesh density field (Eq. 2.33). Null: no density control.
+  const DensityGrid* density = nullptr;
+  /// Acceptable geometric error per region id (2.6.4): the largest distance
+  /// of a surface edge's midpoint to the fitted surface in the reference.
+  /// Empty, or NaN / <= 0 for a region: no accuracy control there.
+  std::vector<double> acceptable_error;
+};
+
+struct PhasedOdtStats {
+  double min_stretch_before = 0, mean_stretch_before = 0;
+  double min_stretch_after = 0, mean_stretch_after = 0;
+  std::size_t tets_before = 0, tets_after = 0;
+  std::size_t inverted_before = 0;
+  DensityError density_error_before, density_error_after;  ///< when a density target is given
+  /// Largest geometric error (2.6.4) per region id after; NaN for regions
+  /// without a curved fit.
+  std::vector<double> geometric_error_after;
+  std::size_t splits = 0, collapses = 0;          ///< density and accuracy control
+  std::size_t accuracy_splits = 0;                ///< of which for accuracy
+  std::size_t flips_23 = 0, flips_32 = 0, flips_44 = 0, surface_flips = 0;
+  std::size_t removed_slivers = 0, removed_caps = 0, removed_spades = 0;
+  std::size_t removed_inverted = 0;               ///< inverted tets repaired
+  std::size_t moved_vertices = 0;                 ///< accepted ODT moves
+  /// Inverted tets no operation could repair (tet slot ids after the run).
+  std::vector<index_t> remaining_inverted;
+  std::array<int, 3> loops{{0, 0, 0}};            ///< modified ODT loops per phase
+  std::array<double, 3> phase_seconds{{0, 0, 0}}; ///< curves, surfaces, volume
+  double seconds = 0;
+  bool aborted = false;
+};
+
+/// Thesis Fig. 2.34 on `mesh` (built with BuildOptions::allow_inverted when it
+/// may hold inverted tets). Boundary vertices stay on their constraint
+/// (vertex_constraint()); vertices of unknown regions and corners stay put.
+/// The mesh stays valid throughout; inverted tets of the input are removed
+/// first. Deterministic.
+PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const PhasedOdtTarget& target,
+                          const PhasedOdtOptions& options = {});
+
+}  // namespace femorph

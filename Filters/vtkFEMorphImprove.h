@@ -1,0 +1,229 @@
+/**
+ * @class   vtkFEMorphImprove
+ * @brief   improves the elements of a tetrahedral mesh without changing the
+ *          part's shape, density or geometric accuracy (Phased ODT)
+ *
+ * ParaView: "FEMorph Improve" (menu FEMorph). Thesis 2.6 (Fig. 2.34): after
+ * a dimension change or a motion step, stretched, flat (sliver, cap, spade)
+ * and inverted tetrahedra are repaired and the original mesh density and
+ * shape approximation accuracy are recovered. The modified ODT loop --
+ * degenerated and inverted element removal (2.6.2), mesh density control
+ * (2.6.3), shape approximation accuracy control (2.6.4), ODT smoothing
+ * (2.6.5) -- runs on the boundary curves, the surface triangles and the
+ * tetrahedra in that order; boundary vertices stay on the fitted surfaces
+ * and curves of the segmentation. The algorithm is femorph_core's
+ * phased_odt() (Core/improve/phased_odt.h).
+ *
+ * Input 0 (`Input`): the mesh to improve, VTK_TETRA cells only, with the
+ * segmentation arrays FEMorph Segment writes (FaceRegion, VertexClass,
+ * RegionType, RegionParameters, curves). Without them the filter says so and
+ * segments the mesh itself (SegmentIfMissing, default) or keeps every
+ * boundary vertex where it is. Inverted tetrahedra are accepted (they are
+ * what Improve repairs) when they are oriented consistently with their
+ * neighbours; non-tetrahedral cells, NaN coordinates, a non-conforming or
+ * non-manifold mesh are errors. The input is never modified.
+ *
+ * Input 1 (`Reference`, optional): the mesh before the deformation. With the
+ * input's connectivity (same points and cells), its vertex densities
+ * (Eq. 2.32) travel with the material onto the input (Eq. 2.33); otherwise
+ * its density field is taken in space. When it carries segmentation arrays
+ * its largest geometric error per region is the acceptable error (2.6.4).
+ * Without a reference the input's own density and geometric error are kept.
+ *
+ * Output: the improved mesh. Point data interpolated onto new points, cell
+ * data copied from the cell each new cell comes from, FaceRegion and
+ * VertexClass rewritten, the segmentation's field data kept (CurveVertices
+ * and CurveOffsets renumbered to the output's points). Cell data `Stretch`
+ * (Eq. 1.1) and `Inverted` (unsigned char, 1 for a tetrahedron with negative
+ * volume that could not be repaired; only with RequireValid off). Field data,
+ * one tuple each: `ImproveStretch` (min and mean, before and after),
+ * `ImproveDensityError` (mean density error Eq. 2.35 before and after; NaN
+ * without density control), `ImproveCounts` (splits, collapses, accuracy
+ * splits, flips 2-3, 3-2, 4-4, surface flips, removed slivers, caps, spades,
+ * repaired inverted tetrahedra, remaining inverted, moved vertices, tets
+ * before and after), `ImproveTimes` (seconds: segmentation, curves,
+ * surfaces, volume, total); one tuple per region: `GeometricError` (largest
+ * distance of a boundary edge's midpoint to the region's fitted curved
+ * surface, after) and `AcceptableGeometricError` (the target; NaN for planes
+ * and unknown regions).
+ *
+ * @sa vtkFEMorphSegment, vtkFEMorphMeshQuality
+ */
+#ifndef vtkFEMorphImprove_h
+#define vtkFEMorphImprove_h
+
+#include "FEMorphFiltersModule.h" // For export macro
+#include "vtkUnstructuredGridAlgorithm.h"
+
+#include <string>
+
+class FEMORPHFILTERS_EXPORT vtkFEMorphImprove : public vtkUnstructuredGridAlgorithm
+{
+public:
+  static vtkFEMorphImprove* New();
+  vtkTypeMacro(vtkFEMorphImprove, vtkUnstructuredGridAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// The reference mesh (before the deformation), input port 1. Optional.
+  void SetReferenceData(vtkDataObject* reference) { this->SetInputData(1, reference); }
+  void SetReferenceConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
+
+  ///@{
+  /**
+   * Phases of Phased ODT smoothing (thesis 2.6.5): boundary curves (CPT
+   * smoothing on lines, central angles on circles), surface triangles (2D
+   * ODT in each region's parameter plane, surface edge flips) and
+   * tetrahedra (3D ODT, flips 2-3, 3-2, 4-4). Default all on.
+   */
+  vtkSetMacro(SmoothCurves, vtkTypeBool);
+  vtkGetMacro(SmoothCurves, vtkTypeBool);
+  vtkBooleanMacro(SmoothCurves, vtkTypeBool);
+  vtkSetMacro(SmoothSurfaces, vtkTypeBool);
+  vtkGetMacro(SmoothSurfaces, vtkTypeBool);
+  vtkBooleanMacro(SmoothSurfaces, vtkTypeBool);
+  vtkSetMacro(SmoothVolume, vtkTypeBool);
+  vtkGetMacro(SmoothVolume, vtkTypeBool);
+  vtkBooleanMacro(SmoothVolume, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
+   * Steps of the modified ODT loop: removal of flat tetrahedra (slivers,
+   * caps, spades; 2.6.2), repair of inverted tetrahedra (half-edge
+   * collapses, 2.6.2), mesh density control (split and collapse, 2.6.3),
+   * shape approximation accuracy control (2.6.4), flips. Default all on.
+   */
+  vtkSetMacro(RemoveDegenerate, vtkTypeBool);
+  vtkGetMacro(RemoveDegenerate, vtkTypeBool);
+  vtkBooleanMacro(RemoveDegenerate, vtkTypeBool);
+  vtkSetMacro(RemoveInverted, vtkTypeBool);
+  vtkGetMacro(RemoveInverted, vtkTypeBool);
+  vtkBooleanMacro(RemoveInverted, vtkTypeBool);
+  vtkSetMacro(DensityControl, vtkTypeBool);
+  vtkGetMacro(DensityControl, vtkTypeBool);
+  vtkBooleanMacro(DensityControl, vtkTypeBool);
+  vtkSetMacro(AccuracyControl, vtkTypeBool);
+  vtkGetMacro(AccuracyControl, vtkTypeBool);
+  vtkBooleanMacro(AccuracyControl, vtkTypeBool);
+  vtkSetMacro(Flips, vtkTypeBool);
+  vtkGetMacro(Flips, vtkTypeBool);
+  vtkBooleanMacro(Flips, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
+   * ODT sweeps per step of the loop (thesis: two or three). In [1, 100].
+   * Default 3.
+   */
+  vtkSetClampMacro(OdtIterations, int, 1, 100);
+  vtkGetMacro(OdtIterations, int);
+  ///@}
+
+  ///@{
+  /**
+   * Repetitions of the modified ODT loop per phase at most (the loop stops
+   * earlier when no density or accuracy operation is left). In [1, 1000].
+   * Default 8.
+   */
+  vtkSetClampMacro(MaxLoops, int, 1, 1000);
+  vtkGetMacro(MaxLoops, int);
+  ///@}
+
+  ///@{
+  /**
+   * Density thresholds (2.6.3): an edge is split when its length times the
+   * target density reaches SplitThreshold (beta1, default 1.5) and collapsed
+   * when it is at most CollapseThreshold (beta2, default 0.67). The loop
+   * converges when beta1 > 2 beta2 and 1 + beta2 / 2 < beta1; other values
+   * are an error. SplitThreshold in [1, 100], CollapseThreshold in [0, 1].
+   */
+  vtkSetClampMacro(SplitThreshold, double, 1.0, 100.0);
+  vtkGetMacro(SplitThreshold, double);
+  vtkSetClampMacro(CollapseThreshold, double, 0.0, 1.0);
+  vtkGetMacro(CollapseThreshold, double);
+  ///@}
+
+  ///@{
+  /**
+   * Edge of the cells of the regular grid holding the target density field
+   * (Eq. 2.33), in model units. 0 (default): half the mean edge length of
+   * the reference (or input) mesh, as the thesis suggests. In [0, 1e30].
+   */
+  vtkSetClampMacro(GridCellSize, double, 0.0, 1e30);
+  vtkGetMacro(GridCellSize, double);
+  ///@}
+
+  ///@{
+  /**
+   * gamma_st (2.6.2): tetrahedra with a stretch (Eq. 1.1) below it are
+   * degenerated and removed; no operation may create one. In [0, 0.5].
+   * Default 0.05.
+   */
+  vtkSetClampMacro(DegenerateThreshold, double, 0.0, 0.5);
+  vtkGetMacro(DegenerateThreshold, double);
+  ///@}
+
+  ///@{
+  /**
+   * Name of a cell array (any numeric type) restricting the improvement to
+   * the cells where it is nonzero, e.g. the cells Deform or Adapt moved.
+   * Only vertices all of whose cells are flagged move or change. Empty
+   * (default): the whole mesh. A name that is not a cell array is an error.
+   */
+  vtkSetStdStringFromCharMacro(RegionArrayName);
+  vtkGetCharFromStdStringMacro(RegionArrayName);
+  ///@}
+
+  ///@{
+  /**
+   * When the input has no segmentation arrays: segment it with FEMorph
+   * Segment's defaults (on, default) or keep every boundary vertex fixed.
+   */
+  vtkSetMacro(SegmentIfMissing, vtkTypeBool);
+  vtkGetMacro(SegmentIfMissing, vtkTypeBool);
+  vtkBooleanMacro(SegmentIfMissing, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
+   * When inverted tetrahedra remain that no local operation could repair:
+   * fail with an error naming how many and where (on, default), or output
+   * the mesh with them marked in the `Inverted` cell array and a warning.
+   */
+  vtkSetMacro(RequireValid, vtkTypeBool);
+  vtkGetMacro(RequireValid, vtkTypeBool);
+  vtkBooleanMacro(RequireValid, vtkTypeBool);
+  ///@}
+
+protected:
+  vtkFEMorphImprove();
+  ~vtkFEMorphImprove() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+
+  vtkTypeBool SmoothCurves = 1;
+  vtkTypeBool SmoothSurfaces = 1;
+  vtkTypeBool SmoothVolume = 1;
+  vtkTypeBool RemoveDegenerate = 1;
+  vtkTypeBool RemoveInverted = 1;
+  vtkTypeBool DensityControl = 1;
+  vtkTypeBool AccuracyControl = 1;
+  vtkTypeBool Flips = 1;
+  int OdtIterations = 3;
+  int MaxLoops = 8;
+  double SplitThreshold = 1.5;
+  double CollapseThreshold = 0.67;
+  double GridCellSize = 0.0;
+  double DegenerateThreshold = 0.05;
+  std::string RegionArrayName;
+  vtkTypeBool SegmentIfMissing = 1;
+  vtkTypeBool RequireValid = 1;
+
+private:
+  vtkFEMorphImprove(const vtkFEMorphImprove&) = delete;
+  void operator=(const vtkFEMorphImprove&) = delete;
+};
+
+#endif

@@ -1,0 +1,658 @@
+// FEMorph Improve (vtkFEMorphImprove) on the Data/ parts: the quality goals
+// of issue 5 on the inputs it names -- (a) inner vertices moved randomly by
+// up to 40% of the local edge length, (b) the boss's slab stretched x1.6 and
+// x3 along z (a boss-height change, thesis Fig. 2.53), (c) surface vertices
+// slid along their planes (inverted and flat tets) -- checked with the
+// independent validity checker and closed-form surface distances; bad input.
+#include "vtkFEMorphImprove.h"
+#include "vtkFEMorphSegment.h"
+
+#include "filters_test_utils.h"
+
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include "geometry/predicates.h"
+#include "geometry/surface_primitive.h"
+#include "quality/check_validity.h"
+#include "quality/tet_quality.h"
+#include "segment/segmentation.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <set>
+#include <vector>
+
+namespace
+{
+using femorph::Tet;
+using femorph::Vec3;
+
+struct Arrays
+{
+  std::vector<Vec3> Points;
+  std::vector<Tet> Tets;
+};
+
+Arrays ToArrays(vtkUnstructuredGrid* grid)
+{
+  Arrays a;
+  a.Points.resize(static_cast<std::size_t>(grid->GetNumberOfPoints()));
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
+  {
+    grid->GetPoint(i, a.Points[static_cast<std::size_t>(i)].data());
+  }
+  a.Tets.resize(static_cast<std::size_t>(grid->GetNumberOfCells()));
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    vtkIdType n = 0;
+    const vtkIdType* p = nullptr;
+    grid->GetCellPoints(c, n, p);
+    EXPECT_EQ(n, 4);
+    for (int k = 0; k < 4 && k < n; ++k)
+    {
+      a.Tets[static_cast<std::size_t>(c)][k] = static_cast<femorph::index_t>(p[k]);
+    }
+  }
+  return a;
+}
+
+struct Quality
+{
+  double Min = 0, Mean = 0, Volume = 0;
+  std::size_t Inverted = 0;
+};
+
+Quality Measure(const Arrays& a)
+{
+  Quality q;
+  q.Min = std::numeric_limits<double>::infinity();
+  for (const Tet& t : a.Tets)
+  {
+    const Vec3 &p0 = a.Points[t[0]], &p1 = a.Points[t[1]], &p2 = a.Points[t[2]], &p3 = a.Points[t[3]];
+    const double s = femorph::tet_stretch(p0, p1, p2, p3);
+    q.Min = std::min(q.Min, s);
+    q.Mean += s;
+    q.Volume += femorph::tet_signed_volume(p0, p1, p2, p3);
+    q.Inverted += femorph::orient3d_sign(p0, p1, p2, p3) <= 0;
+  }
+  q.Mean /= static_cast<double>(a.Tets.size());
+  return q;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> WithPoints(vtkUnstructuredGrid* grid, const std::vector<Vec3>& points)
+{
+  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  out->DeepCopy(grid);
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    out->GetPoints()->SetPoint(static_cast<vtkIdType>(i), points[i].data());
+  }
+  return out;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> Segmented(vtkUnstructuredGrid* grid)
+{
+  vtkNew<vtkFEMorphSegment> segment;
+  segment->SetInputData(grid);
+  segment->Update();
+  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  out->DeepCopy(segment->GetMeshOutput());
+  return out;
+}
+
+double Field(vtkUnstructuredGrid* grid, const char* name, const char* component)
+{
+  vtkDataArray* a = grid->GetFieldData()->GetArray(name);
+  if (!a)
+  {
+    ADD_FAILURE() << "no field array " << name;
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  for (int i = 0; i < a->GetNumberOfComponents(); ++i)
+  {
+    if (a->GetComponentName(i) && std::string(a->GetComponentName(i)) == component)
+    {
+      return a->GetComponent(0, i);
+    }
+  }
+  ADD_FAILURE() << name << " has no component " << component;
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+/// Stretches the slab lo <= z <= hi by `factor` and shifts what is above.
+std::vector<Vec3> StretchSlab(std::vector<Vec3> points, double lo, double hi, double factor)
+{
+  for (Vec3& p : points)
+  {
+    const double z = p.z();
+    p.z() = z <= lo ? z : (z >= hi ? z + (factor - 1) * (hi - lo) : lo + factor * (z - lo));
+  }
+  return points;
+}
+
+/// Points on boundary faces, and the regions of those faces.
+std::vector<std::set<int>> PointRegions(vtkUnstructuredGrid* grid, const Arrays& a)
+{
+  std::vector<std::set<int>> regions(a.Points.size());
+  vtkDataArray* fr = grid->GetCellData()->GetArray("FaceRegion");
+  EXPECT_NE(fr, nullptr);
+  if (!fr)
+  {
+    return regions;
+  }
+  for (std::size_t t = 0; t < a.Tets.size(); ++t)
+  {
+    for (int f = 0; f < 4; ++f)
+    {
+      const int r = static_cast<int>(fr->GetComponent(static_cast<vtkIdType>(t), f));
+      if (r < 0)
+      {
+        continue;
+      }
+      for (int k = 0; k < 4; ++k)
+      {
+        if (k != f)
+        {
+          regions[a.Tets[t][k]].insert(r);
+        }
+      }
+    }
+  }
+  return regions;
+}
+
+/// Largest distance of a boundary point that Improve made or moved to the
+/// fitted surface of a region it lies on (fitted regions only), over the
+/// part's size.
+double MaxSurfaceDistance(vtkUnstructuredGrid* grid, const Arrays& a, vtkUnstructuredGrid* inputGrid)
+{
+  std::set<std::array<double, 3>> input;
+  for (const Vec3& p : ToArrays(inputGrid).Points)
+  {
+    input.insert({ p.x(), p.y(), p.z() });
+  }
+  vtkDataArray* types = grid->GetFieldData()->GetArray("RegionType");
+  vtkDataArray* params = grid->GetFieldData()->GetArray("RegionParameters");
+  EXPECT_TRUE(types && params);
+  if (!types || !params)
+  {
+    return 1;
+  }
+  std::vector<femorph::SurfacePrimitive> surfaces(static_cast<std::size_t>(types->GetNumberOfTuples()));
+  for (vtkIdType r = 0; r < types->GetNumberOfTuples(); ++r)
+  {
+    std::vector<double> row(static_cast<std::size_t>(params->GetNumberOfComponents()));
+    params->GetTuple(r, row.data());
+    surfaces[static_cast<std::size_t>(r)] = femorph::unpack_region_surface(
+      static_cast<femorph::SurfaceType>(std::lround(types->GetComponent(r, 0))), row.data());
+  }
+  double bounds[6];
+  grid->GetBounds(bounds);
+  const double size = std::hypot(bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4]);
+  const auto regions = PointRegions(grid, a);
+  double worst = 0;
+  for (std::size_t v = 0; v < a.Points.size(); ++v)
+  {
+    for (const int r : regions[v])
+    {
+      if (surfaces[static_cast<std::size_t>(r)].type == femorph::SurfaceType::Unknown)
+      {
+        continue;
+      }
+      if (input.count({ a.Points[v].x(), a.Points[v].y(), a.Points[v].z() }))
+      {
+        continue;  // an input point left in place: on the surface up to the fit's residual
+      }
+      worst = std::max(worst, femorph::distance(surfaces[static_cast<std::size_t>(r)], a.Points[v]));
+    }
+  }
+  return worst / size;
+}
+
+/// What every output must be: a valid conforming mesh (the independent
+/// checker) without inverted or flat tets, with Stretch and Inverted arrays.
+void ExpectValid(vtkUnstructuredGrid* out, const Arrays& a)
+{
+  const femorph::ValidityReport report = femorph::check_validity(a.Points, a.Tets);
+  EXPECT_TRUE(report.ok()) << report.summary();
+  EXPECT_EQ(Measure(a).Inverted, 0u);
+  EXPECT_NE(out->GetCellData()->GetArray("Stretch"), nullptr);
+  EXPECT_NE(out->GetCellData()->GetArray("Inverted"), nullptr);
+}
+
+/// The curve vertex lists of the output are chains of existing edges.
+void ExpectCurvesConsistent(vtkUnstructuredGrid* out, const Arrays& a)
+{
+  vtkDataArray* vertices = out->GetFieldData()->GetArray("CurveVertices");
+  vtkDataArray* offsets = out->GetFieldData()->GetArray("CurveOffsets");
+  ASSERT_TRUE(vertices && offsets);
+  std::set<std::pair<vtkIdType, vtkIdType>> edges;
+  for (const Tet& t : a.Tets)
+  {
+    for (int i = 0; i < 4; ++i)
+    {
+      for (int j = i + 1; j < 4; ++j)
+      {
+        edges.insert({ std::min(t[i], t[j]), std::max(t[i], t[j]) });
+      }
+    }
+  }
+  std::size_t nonEmpty = 0;
+  for (vtkIdType c = 0; c + 1 < offsets->GetNumberOfTuples(); ++c)
+  {
+    const auto b = static_cast<vtkIdType>(offsets->GetComponent(c, 0));
+    const auto e = static_cast<vtkIdType>(offsets->GetComponent(c + 1, 0));
+    nonEmpty += e > b;
+    for (vtkIdType i = b; i + 1 < e; ++i)
+    {
+      const auto u = static_cast<vtkIdType>(vertices->GetComponent(i, 0));
+      const auto w = static_cast<vtkIdType>(vertices->GetComponent(i + 1, 0));
+      EXPECT_TRUE(edges.count({ std::min(u, w), std::max(u, w) })) << "curve " << c << " at " << i;
+    }
+  }
+  EXPECT_GT(nonEmpty, 0u);
+}
+
+struct ImproveRun
+{
+  vtkSmartPointer<vtkUnstructuredGrid> Output;
+  Arrays Out;
+  Quality Before, After;
+};
+
+ImproveRun Improve(vtkUnstructuredGrid* input, vtkUnstructuredGrid* reference,
+  const std::function<void(vtkFEMorphImprove*)>& configure = {})
+{
+  ImproveRun run;
+  run.Before = Measure(ToArrays(input));
+  vtkNew<vtkFEMorphImprove> improve;
+  improve->SetInputData(input);
+  if (reference)
+  {
+    improve->SetReferenceData(reference);
+  }
+  if (configure)
+  {
+    configure(improve);
+  }
+  improve->Update();
+  run.Output = improve->GetOutput();
+  run.Out = ToArrays(run.Output);
+  if (!run.Out.Tets.empty())
+  {
+    run.After = Measure(run.Out);
+  }
+  std::printf("  stretch min %.3f -> %.3f, mean %.3f -> %.3f; tets %zu -> %zu; density error %.3f -> %.3f; "
+              "%.2f s\n",
+    run.Before.Min, run.After.Min, run.Before.Mean, run.After.Mean, static_cast<std::size_t>(input->GetNumberOfCells()),
+    run.Out.Tets.size(), Field(run.Output, "ImproveDensityError", "Before"),
+    Field(run.Output, "ImproveDensityError", "After"), Field(run.Output, "ImproveTimes", "Total"));
+  return run;
+}
+
+/// Every region's largest geometric error is within its acceptable error.
+void ExpectAccuracyKept(vtkUnstructuredGrid* out)
+{
+  vtkDataArray* err = out->GetFieldData()->GetArray("GeometricError");
+  vtkDataArray* ok = out->GetFieldData()->GetArray("AcceptableGeometricError");
+  ASSERT_TRUE(err && ok);
+  ASSERT_EQ(err->GetNumberOfTuples(), ok->GetNumberOfTuples());
+  for (vtkIdType r = 0; r < err->GetNumberOfTuples(); ++r)
+  {
+    if (std::isnan(ok->GetComponent(r, 0)))
+    {
+      continue;
+    }
+    EXPECT_LE(err->GetComponent(r, 0), ok->GetComponent(r, 0) * (1 + 1e-9)) << "region " << r;
+  }
+}
+
+// Issue 5 (b): the boss's slab (z from the block's top, 20, to the boss's
+// top, 35) stretched x1.6 along its axis; the reference is the part before.
+TEST(Improve, BossHeightStretch16)
+{
+  auto part = femorph_test::ReadPart("boss_block.vtu");
+  ASSERT_NE(part, nullptr);
+  auto reference = Segmented(part);
+  const Arrays original = ToArrays(part);
+  const Quality undeformed = Measure(original);
+  auto deformed = Segmented(WithPoints(part, StretchSlab(original.Points, 20, 35, 1.6)));
+  const vtkMTimeType inputTime = deformed->GetMTime();
+  ImproveRun run = Improve(deformed, reference);
+  ASSERT_GT(run.Out.Tets.size(), 0u);
+  EXPECT_EQ(deformed->GetMTime(), inputTime);
+  ExpectValid(run.Output, run.Out);
+  EXPECT_GE(run.After.Min, 0.2);
+  EXPECT_GE(run.After.Mean, undeformed.Mean);
+  EXPECT_LT(Field(run.Output, "ImproveDensityError", "After"), Field(run.Output, "ImproveDensityError", "Before"));
+  EXPECT_LE(Field(run.Output, "ImproveDensityError", "After"), 0.16);
+  EXPECT_LE(MaxSurfaceDistance(run.Output, run.Out, deformed), 1e-9);
+  ExpectAccuracyKept(run.Output);
+  ExpectCurvesConsistent(run.Output, run.Out);
+  EXPECT_NEAR(run.After.Volume, run.Before.Volume, 2e-3 * run.Before.Volume);
+}
+
+TEST(Improve, BossHeightStretch3)
+{
+  auto part = femorph_test::ReadPart("boss_block.vtu");
+  ASSERT_NE(part, nullptr);
+  auto reference = Segmented(part);
+  const Arrays original = ToArrays(part);
+  auto deformed = Segmented(WithPoints(part, StretchSlab(original.Points, 20, 35, 3.0)));
+  ImproveRun run = Improve(deformed, reference);
+  ASSERT_GT(run.Out.Tets.size(), 0u);
+  ExpectValid(run.Output, run.Out);
+  EXPECT_GE(run.After.Min, 0.2);
+  EXPECT_GE(run.After.Mean, Measure(original).Mean);
+  EXPECT_LE(Field(run.Output, "ImproveDensityError", "After"), 0.16);
+  EXPECT_LE(MaxSurfaceDistance(run.Output, run.Out, deformed), 1e-9);
+  ExpectAccuracyKept(run.Output);
+}
+
+// Issue 5 (a): inner vertices moved by up to 40% of their mean edge length
+// (moves that would invert are skipped, so the input is valid).
+TEST(Improve, JitteredInnerVertices)
+{
+  auto part = femorph_test::ReadPart("filleted_box.vtu");
+  ASSERT_NE(part, nullptr);
+  auto segmented = Segmented(part);
+  Arrays a = ToArrays(segmented);
+  const Quality undeformed = Measure(a);
+  std::vector<std::vector<femorph::index_t>> neighbours(a.Points.size());
+  std::vector<char> boundary(a.Points.size(), 0);
+  const auto regions = PointRegions(segmented, a);
+  for (std::size_t v = 0; v < a.Points.size(); ++v)
+  {
+    boundary[v] = !regions[v].empty();
+  }
+  std::vector<std::vector<std::size_t>> ball(a.Points.size());
+  for (std::size_t t = 0; t < a.Tets.size(); ++t)
+  {
+    for (int i = 0; i < 4; ++i)
+    {
+      ball[a.Tets[t][i]].push_back(t);
+      for (int j = 0; j < 4; ++j)
+      {
+        if (i != j)
+        {
+          neighbours[a.Tets[t][i]].push_back(a.Tets[t][j]);
+        }
+      }
+    }
+  }
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (std::size_t v = 0; v < a.Points.size(); ++v)
+  {
+    if (boundary[v] || neighbours[v].empty())
+    {
+      continue;
+    }
+    double len = 0;
+    for (const auto w : neighbours[v])
+    {
+      len += (a.Points[w] - a.Points[v]).norm();
+    }
+    len /= static_cast<double>(neighbours[v].size());
+    Vec3 d;
+    do
+    {
+      d = Vec3(u(rng), u(rng), u(rng));
+    } while (d.squaredNorm() > 1);
+    const Vec3 old = a.Points[v];
+    a.Points[v] = old + 0.4 * len * d;
+    for (const std::size_t t : ball[v])
+    {
+      const Tet& T = a.Tets[t];
+      if (femorph::orient3d_sign(a.Points[T[0]], a.Points[T[1]], a.Points[T[2]], a.Points[T[3]]) <= 0)
+      {
+        a.Points[v] = old;
+        break;
+      }
+    }
+  }
+  auto jittered = WithPoints(segmented, a.Points);
+  ImproveRun run = Improve(jittered, segmented);
+  ASSERT_GT(run.Out.Tets.size(), 0u);
+  ExpectValid(run.Output, run.Out);
+  EXPECT_LT(run.Before.Min, 0.2);
+  EXPECT_GE(run.After.Min, 0.3);
+  EXPECT_GE(run.After.Mean, undeformed.Mean);
+  EXPECT_LE(MaxSurfaceDistance(run.Output, run.Out, jittered), 1e-9);
+  ExpectAccuracyKept(run.Output);
+}
+
+// An input that needs nothing: the Data part itself, with itself as the
+// reference. Quality does not drop, the density error does not grow, the
+// tet count stays within 10%.
+TEST(Improve, GoodInputStaysGood)
+{
+  auto part = femorph_test::ReadPart("cone_sphere_torus.vtu");
+  ASSERT_NE(part, nullptr);
+  auto segmented = Segmented(part);
+  ImproveRun run = Improve(segmented, nullptr);
+  ASSERT_GT(run.Out.Tets.size(), 0u);
+  ExpectValid(run.Output, run.Out);
+  EXPECT_GE(run.After.Min, run.Before.Min);
+  EXPECT_GE(run.After.Mean, run.Before.Mean);
+  EXPECT_LE(Field(run.Output, "ImproveDensityError", "After"),
+    Field(run.Output, "ImproveDensityError", "Before") + 1e-9);
+  EXPECT_NEAR(static_cast<double>(run.Out.Tets.size()), static_cast<double>(segmented->GetNumberOfCells()),
+    0.1 * static_cast<double>(segmented->GetNumberOfCells()));
+  EXPECT_LE(MaxSurfaceDistance(run.Output, run.Out, segmented), 1e-9);
+}
+
+// Restriction to a region: cells outside the flagged ones keep their points.
+TEST(Improve, RegionArrayRestrictsTheChange)
+{
+  auto part = femorph_test::ReadPart("boss_block.vtu");
+  ASSERT_NE(part, nullptr);
+  const Arrays original = ToArrays(part);
+  auto deformed = Segmented(WithPoints(part, StretchSlab(original.Points, 20, 35, 1.6)));
+  // Flag the cells with a point above the block (the stretched boss).
+  vtkNew<vtkIntArray> flag;
+  flag->SetName("Moved");
+  flag->SetNumberOfTuples(deformed->GetNumberOfCells());
+  std::vector<char> outside(original.Points.size(), 0);
+  for (std::size_t t = 0; t < original.Tets.size(); ++t)
+  {
+    bool above = false;
+    for (const auto v : original.Tets[t])
+    {
+      above = above || original.Points[v].z() > 20 + 1e-9;
+    }
+    flag->SetValue(static_cast<vtkIdType>(t), above ? 1 : 0);
+    if (!above)
+    {
+      for (const auto v : original.Tets[t])
+      {
+        outside[v] = 1;
+      }
+    }
+  }
+  deformed->GetCellData()->AddArray(flag);
+  ImproveRun run = Improve(deformed, nullptr, [](vtkFEMorphImprove* f) { f->SetRegionArrayName("Moved"); });
+  ASSERT_GT(run.Out.Tets.size(), 0u);
+  ExpectValid(run.Output, run.Out);
+  // Every point of an unflagged cell is in the output, unmoved.
+  std::set<std::array<double, 3>> out;
+  for (const Vec3& p : run.Out.Points)
+  {
+    out.insert({ p.x(), p.y(), p.z() });
+  }
+  const Arrays in = ToArrays(deformed);
+  std::size_t missing = 0;
+  for (std::size_t v = 0; v < in.Points.size(); ++v)
+  {
+    missing += outside[v] && !out.count({ in.Points[v].x(), in.Points[v].y(), in.Points[v].z() });
+  }
+  EXPECT_EQ(missing, 0u);
+  EXPECT_GT(run.After.Min, run.Before.Min);
+}
+
+// Without segmentation arrays and SegmentIfMissing off: a warning, and every
+// boundary point stays where it is.
+TEST(Improve, NoSegmentationKeepsBoundary)
+{
+  auto part = femorph_test::ReadPart("boss_block.vtu");
+  ASSERT_NE(part, nullptr);
+  const Arrays original = ToArrays(part);
+  auto deformed = WithPoints(part, StretchSlab(original.Points, 20, 35, 1.6));
+  vtkNew<femorph_test::MessageRecorder> messages;
+  vtkNew<vtkFEMorphImprove> improve;
+  messages->Observe(improve);
+  improve->SetInputData(deformed);
+  improve->SetSegmentIfMissing(false);
+  improve->Update();
+  ASSERT_EQ(messages->Errors.size(), 0u);
+  ASSERT_FALSE(messages->Warnings.empty());
+  EXPECT_NE(messages->Warnings[0].find("kept where it is"), std::string::npos) << messages->Warnings[0];
+  const Arrays out = ToArrays(improve->GetOutput());
+  ExpectValid(improve->GetOutput(), out);
+  // The boundary points of the input are all in the output.
+  std::set<std::array<double, 3>> points;
+  for (const Vec3& p : out.Points)
+  {
+    points.insert({ p.x(), p.y(), p.z() });
+  }
+  const Arrays in = ToArrays(deformed);
+  vtkNew<vtkFEMorphSegment> segment;  // only to find the boundary points
+  segment->SetInputData(deformed);
+  segment->Update();
+  const auto regions = PointRegions(segment->GetMeshOutput(), in);
+  std::size_t moved = 0;
+  for (std::size_t v = 0; v < in.Points.size(); ++v)
+  {
+    moved += !regions[v].empty() && !points.count({ in.Points[v].x(), in.Points[v].y(), in.Points[v].z() });
+  }
+  EXPECT_EQ(moved, 0u);
+}
+
+TEST(Improve, BadInput)
+{
+  // Not tetrahedra.
+  {
+    auto grid = femorph_test::MakeGrid({ { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
+                                         { 1, 0, 1 }, { 1, 1, 1 }, { 0, 1, 1 } },
+      { { VTK_HEXAHEDRON, { 0, 1, 2, 3, 4, 5, 6, 7 } } });
+    vtkNew<femorph_test::MessageRecorder> messages;
+    vtkNew<vtkFEMorphImprove> improve;
+    messages->Observe(improve);
+    improve->SetInputData(grid);
+    improve->Update();
+    ASSERT_FALSE(messages->Errors.empty());
+    EXPECT_NE(messages->Errors[0].find("VTK_HEXAHEDRON"), std::string::npos) << messages->Errors[0];
+    EXPECT_EQ(improve->GetOutput()->GetNumberOfCells(), 0);
+  }
+  // A region array that is not there.
+  {
+    auto grid = femorph_test::MakeTwoTets();
+    vtkNew<femorph_test::MessageRecorder> messages;
+    vtkNew<vtkFEMorphImprove> improve;
+    messages->Observe(improve);
+    improve->SetInputData(grid);
+    improve->SetRegionArrayName("NoSuchArray");
+    improve->Update();
+    ASSERT_FALSE(messages->Errors.empty());
+    EXPECT_NE(messages->Errors[0].find("NoSuchArray"), std::string::npos) << messages->Errors[0];
+    EXPECT_EQ(improve->GetOutput()->GetNumberOfCells(), 0);
+  }
+  // A NaN coordinate.
+  {
+    auto grid = femorph_test::MakeTwoTets();
+    grid->GetPoints()->SetPoint(4, std::nan(""), 1, 1);
+    vtkNew<femorph_test::MessageRecorder> messages;
+    vtkNew<vtkFEMorphImprove> improve;
+    messages->Observe(improve);
+    improve->SetInputData(grid);
+    improve->SetSegmentIfMissing(false);
+    improve->Update();
+    ASSERT_FALSE(messages->Errors.empty());
+    EXPECT_NE(messages->Errors[0].find("NaN"), std::string::npos) << messages->Errors[0];
+  }
+  // Density thresholds that do not converge (thesis 2.6.3).
+  {
+    auto grid = femorph_test::MakeTwoTets();
+    vtkNew<femorph_test::MessageRecorder> messages;
+    vtkNew<vtkFEMorphImprove> improve;
+    messages->Observe(improve);
+    improve->SetInputData(grid);
+    improve->SetSplitThreshold(1.2);
+    improve->SetCollapseThreshold(0.67);
+    improve->Update();
+    ASSERT_FALSE(messages->Errors.empty());
+    EXPECT_NE(messages->Errors[0].find("converge"), std::string::npos) << messages->Errors[0];
+  }
+  // An empty mesh is passed through.
+  {
+    vtkNew<vtkUnstructuredGrid> empty;
+    vtkNew<vtkFEMorphImprove> improve;
+    improve->SetInputData(empty);
+    improve->Update();
+    EXPECT_EQ(improve->GetOutput()->GetNumberOfCells(), 0);
+  }
+}
+
+TEST(Improve, XmlDefaultsEqualCxxDefaults)
+{
+  vtkSmartPointer<vtkXMLDataElement> root;
+  vtkXMLDataElement* proxy = femorph_test::FindFilterProxy(
+    FEMORPH_PLUGIN_XML, "vtkFEMorphImprove", "FEMorphImprove", "FEMorph Improve", root);
+  ASSERT_NE(proxy, nullptr);
+  vtkNew<vtkFEMorphImprove> d;
+  const auto flag = [](vtkTypeBool v) { return femorph_test::XmlProperty{ double(v), 0, 1 }; };
+  femorph_test::XmlProperty region;
+  region.IsString = true;
+  region.DefaultString = d->GetRegionArrayName();
+  const std::map<std::string, femorph_test::XmlProperty> expected = {
+    { "SetSmoothCurves", flag(d->GetSmoothCurves()) },
+    { "SetSmoothSurfaces", flag(d->GetSmoothSurfaces()) },
+    { "SetSmoothVolume", flag(d->GetSmoothVolume()) },
+    { "SetRemoveDegenerate", flag(d->GetRemoveDegenerate()) },
+    { "SetRemoveInverted", flag(d->GetRemoveInverted()) },
+    { "SetDensityControl", flag(d->GetDensityControl()) },
+    { "SetAccuracyControl", flag(d->GetAccuracyControl()) },
+    { "SetFlips", flag(d->GetFlips()) },
+    { "SetOdtIterations",
+      { double(d->GetOdtIterations()), double(d->GetOdtIterationsMinValue()),
+        double(d->GetOdtIterationsMaxValue()) } },
+    { "SetMaxLoops",
+      { double(d->GetMaxLoops()), double(d->GetMaxLoopsMinValue()), double(d->GetMaxLoopsMaxValue()) } },
+    { "SetSplitThreshold",
+      { d->GetSplitThreshold(), d->GetSplitThresholdMinValue(), d->GetSplitThresholdMaxValue() } },
+    { "SetCollapseThreshold",
+      { d->GetCollapseThreshold(), d->GetCollapseThresholdMinValue(), d->GetCollapseThresholdMaxValue() } },
+    { "SetGridCellSize", { d->GetGridCellSize(), d->GetGridCellSizeMinValue(), d->GetGridCellSizeMaxValue() } },
+    { "SetDegenerateThreshold",
+      { d->GetDegenerateThreshold(), d->GetDegenerateThresholdMinValue(), d->GetDegenerateThresholdMaxValue() } },
+    { "SetRegionArrayName", region },
+    { "SetSegmentIfMissing", flag(d->GetSegmentIfMissing()) },
+    { "SetRequireValid", flag(d->GetRequireValid()) },
+  };
+  femorph_test::CheckFilterProperties(proxy, expected);
+  // The help names the output's arrays.
+  vtkXMLDataElement* doc = proxy->FindNestedElementWithName("Documentation");
+  ASSERT_NE(doc, nullptr);
+  const std::string help = doc->GetCharacterData() ? doc->GetCharacterData() : "";
+  for (const char* name : { "Stretch", "Inverted", "ImproveStretch", "ImproveDensityError", "ImproveCounts",
+         "ImproveTimes", "GeometricError", "AcceptableGeometricError" })
+  {
+    EXPECT_NE(help.find(name), std::string::npos) << name;
+  }
+}
+}
