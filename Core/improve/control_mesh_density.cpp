@@ -2,6 +2,7 @@
 #include "improve/control_mesh_density.h"
 
 #include "mesh/tet_mesh.h"
+#include "mesh/unique_edges.h"
 #include "quality/tet_quality.h"
 
 #include <algorithm>
@@ -13,7 +14,6 @@ namespace femorph {
 
 namespace {
 
-constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
 struct HeapEdge {
   double length;
@@ -49,26 +49,8 @@ double scaled_length(const TetMesh& mesh, const DensityGrid& grid, DensityLookup
 }
 
 /// Distinct live edges (a < b), sorted.
-std::vector<std::pair<index_t, index_t>> live_edges(const TetMesh& mesh, const std::vector<char>& mask) {
-  std::vector<std::uint64_t> keys;
-  keys.reserve(mesh.live_tets() * 6);
-  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-    if (!mesh.tet_alive(t)) continue;
-    const Tet& v = mesh.tet(t);
-    for (const auto& e : kTetEdges) {
-      index_t a = v[e[0]], b = v[e[1]];
-      if (!masked(mask, a) || !masked(mask, b)) continue;
-      if (a > b) std::swap(a, b);
-      keys.push_back((static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b));
-    }
-  }
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  std::vector<std::pair<index_t, index_t>> edges;
-  edges.reserve(keys.size());
-  for (const std::uint64_t k : keys)
-    edges.emplace_back(static_cast<index_t>(k >> 32), static_cast<index_t>(k & 0xffffffffu));
-  return edges;
+std::vector<Edge> live_edges(const TetMesh& mesh, const std::vector<char>& mask) {
+  return unique_edges(mesh, &mask);
 }
 
 /// Stretch of tet t with vertex `from` renamed `to` and `moved` placed at

@@ -2,6 +2,7 @@
 #include "improve/mesh_density.h"
 
 #include "mesh/tet_mesh.h"
+#include "mesh/unique_edges.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,30 +13,6 @@
 namespace femorph {
 
 namespace {
-
-constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-
-std::uint64_t edge_key(index_t a, index_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
-
-/// Distinct edges of the tets (skipping tets whose first id is negative, the
-/// tombstones of TetMesh), as sorted keys.
-std::vector<std::uint64_t> distinct_edges(const std::vector<Tet>& tets) {
-  std::vector<std::uint64_t> keys;
-  keys.reserve(tets.size() * 6);
-  for (const Tet& t : tets) {
-    if (t[0] < 0) continue;
-    for (const auto& e : kTetEdges) keys.push_back(edge_key(t[e[0]], t[e[1]]));
-  }
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  return keys;
-}
-
-index_t key_a(std::uint64_t k) { return static_cast<index_t>(k >> 32); }
-index_t key_b(std::uint64_t k) { return static_cast<index_t>(k & 0xffffffffu); }
 
 std::vector<Tet> live_tets(const TetMesh& mesh) {
   std::vector<Tet> tets;
@@ -109,9 +86,9 @@ DensityError density_error_of(const std::vector<Vec3>& points, const std::vector
   DensityError out;
   if (grid.empty()) return out;
   double sum = 0;
-  for (const std::uint64_t k : distinct_edges(tets)) {
-    const Vec3& a = points[key_a(k)];
-    const Vec3& b = points[key_b(k)];
+  for (const Edge& e : unique_edges(tets, static_cast<index_t>(points.size()))) {
+    const Vec3& a = points[e.first];
+    const Vec3& b = points[e.second];
     const double length = (b - a).norm();
     const double rho = grid.density_at(0.5 * (a + b), lookup);
     if (!(length > 0) || !(rho > 0)) continue;
@@ -130,8 +107,8 @@ std::vector<double> vertex_density(const std::vector<Vec3>& points, const std::v
   // Eq. 2.32: average of the reciprocals of the incident edge lengths.
   std::vector<double> sum(points.size(), 0.0);
   std::vector<int> count(points.size(), 0);
-  for (const std::uint64_t k : distinct_edges(tets)) {
-    const index_t a = key_a(k), b = key_b(k);
+  for (const Edge& e : unique_edges(tets, static_cast<index_t>(points.size()))) {
+    const index_t a = e.first, b = e.second;
     const double length = (points[b] - points[a]).norm();
     if (!(length > 0)) continue;
     sum[a] += 1.0 / length;
@@ -148,9 +125,9 @@ std::vector<double> vertex_density(const TetMesh& mesh) {
 }
 
 double mean_edge_length(const std::vector<Vec3>& points, const std::vector<Tet>& tets) {
-  const std::vector<std::uint64_t> edges = distinct_edges(tets);
+  const std::vector<Edge> edges = unique_edges(tets, static_cast<index_t>(points.size()));
   double sum = 0;
-  for (const std::uint64_t k : edges) sum += (points[key_b(k)] - points[key_a(k)]).norm();
+  for (const Edge& e : edges) sum += (points[e.second] - points[e.first]).norm();
   return edges.empty() ? 0.0 : sum / static_cast<double>(edges.size());
 }
 

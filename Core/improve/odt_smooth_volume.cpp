@@ -34,12 +34,16 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
   const bool use_mask = !options.vertex_mask.empty();
   const bool vertex_rho = !options.density && !options.vertex_density.empty();
   std::vector<index_t> ball;
+  // Active set: bit 0 = visit in this sweep, bit 1 = in the next one.
+  std::vector<std::uint8_t> active(static_cast<std::size_t>(slots), 1);
 
   for (int sweep = 0; sweep < options.iterations; ++sweep) {
     ++report.sweeps;
     double max_step = 0;
+    if (sweep > 0 && options.active_tolerance > 0)
+      for (auto& a : active) a = (a & 2) ? 1 : 0;
     for (index_t v = 0; v < slots; ++v) {
-      if (!mesh.vertex_alive(v) || mesh.vertex_class(v) != VertexClass::Inner) continue;
+      if (!(active[v] & 1) || !mesh.vertex_alive(v) || mesh.vertex_class(v) != VertexClass::Inner) continue;
       if (use_mask && (static_cast<std::size_t>(v) >= options.vertex_mask.size() || !options.vertex_mask[v])) continue;
       mesh.vertex_ball(v, ball);
       const Vec3 x = mesh.point(v);
@@ -100,6 +104,9 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
       if (accepted) {
         ++report.moved;
         max_step = std::max(max_step, alpha * relative);
+        if (alpha * relative > options.active_tolerance)
+          for (const index_t t : ball)
+            for (const index_t w : mesh.tet(t)) active[w] |= 2;
       } else {
         ++report.refused;
       }

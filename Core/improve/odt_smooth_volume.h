@@ -28,6 +28,11 @@ struct OdtSmoothOptions {
   /// Stop when no vertex moved farther than tolerance times the mean length
   /// of its edges in a sweep.
   double tolerance = 1e-4;
+  /// Beyond the thesis: after the first sweep only vertices near a move
+  /// are visited again -- those whose own or a neighbour's last accepted
+  /// move was farther than this times its mean edge length (an active set;
+  /// 0: every vertex in every sweep).
+  double active_tolerance = 0.02;
   /// Step halvings of alpha_ODT (Eq. 2.31) before a vertex is left in place.
   int max_halvings = 6;
   /// Quality guard: accept a step only when the minimum stretch (Eq. 1.1)

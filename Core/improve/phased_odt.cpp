@@ -11,6 +11,7 @@
 #include "improve/improve_tets_by_flips.h"
 #include "improve/improve_volume.h"
 #include "improve/odt_smooth_volume.h"
+#include "improve/optimize_worst_vertices.h"
 #include "improve/remove_degenerate_elements.h"
 #include "improve/remove_inverted_elements.h"
 #include "mesh/tet_mesh.h"
@@ -112,6 +113,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
   for (int phase = 0; phase < 3; ++phase) {
     if (!enabled[phase]) continue;
     const auto phase_start = Clock::now();
+    std::size_t last_operations = static_cast<std::size_t>(-1);
     for (int loop = 0; loop < std::max(1, options.max_loops); ++loop) {
       if (!report((phase + static_cast<double>(loop) / std::max(1, options.max_loops)) / 3.0, kPhaseNames[phase]))
         break;
@@ -192,7 +194,13 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
         }
       }
       // Fig. 2.34: the loop ends when no density or accuracy operation is left.
-      if (operations == 0) break;
+      // Beyond the thesis: also when they stop decreasing (a split and a
+      // collapse can undo each other) or touch under 1% of the tets (ODT
+      // smoothing keeps nudging edge lengths across the thresholds).
+      if (operations == 0 || operations >= last_operations ||
+          static_cast<double>(operations) < 0.01 * static_cast<double>(mesh.live_tets()))
+        break;
+      last_operations = operations;
     }
     // The tetrahedra get a few more rounds of smoothing and flips once the
     // density has settled (thesis: two or three ODT sweeps per step).
@@ -209,6 +217,19 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
         stats.flips_44 += vs.flips_44;
       } else {
         for (int round = 0; round < ivo.rounds; ++round) stats.moved_vertices += odt_smooth_volume(mesh, ivo.smooth).moved;
+      }
+      // The tets ODT leaves next to the boundary: their inner vertex moved
+      // to maximise the ball's minimum stretch, then flips again.
+      WorstVertexOptions wo;
+      wo.vertex_mask = ivo.smooth.vertex_mask;
+      stats.moved_vertices += optimize_worst_vertices(mesh, wo).improved;
+      if (options.flips) {
+        FlipImproveOptions fo;
+        fo.vertex_mask = ivo.smooth.vertex_mask;
+        const FlipImproveReport fr = improve_tets_by_flips(mesh, fo);
+        stats.flips_23 += fr.flips_23;
+        stats.flips_32 += fr.flips_32;
+        stats.flips_44 += fr.flips_44;
       }
     }
     stats.phase_seconds[phase] = seconds_since(phase_start);

@@ -1,0 +1,85 @@
+#include "improve/optimize_worst_vertices.h"
+
+#include "mesh/tet_mesh.h"
+#include "quality/tet_quality.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace femorph {
+
+namespace {
+
+double ball_min(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p) {
+  double q = std::numeric_limits<double>::infinity();
+  for (const index_t t : ball) {
+    const Tet& T = mesh.tet(t);
+    const Vec3* x[4];
+    for (int i = 0; i < 4; ++i) x[i] = T[i] == v ? &p : &mesh.point(T[i]);
+    q = std::min(q, tet_stretch(*x[0], *x[1], *x[2], *x[3]));
+  }
+  return q;
+}
+
+}  // namespace
+
+WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions& options) {
+  WorstVertexStats stats;
+  std::vector<index_t> ball, neighbours, candidates;
+  const auto movable = [&](index_t v) {
+    return mesh.vertex_class(v) == VertexClass::Inner &&
+           (options.vertex_mask.empty() ||
+            (static_cast<std::size_t>(v) < options.vertex_mask.size() && options.vertex_mask[v]));
+  };
+  for (int pass = 0; pass < options.passes; ++pass) {
+    candidates.clear();
+    for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+      if (!mesh.tet_alive(t)) continue;
+      const Tet& T = mesh.tet(t);
+      if (tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) >= options.threshold)
+        continue;
+      for (const index_t v : T)
+        if (movable(v)) candidates.push_back(v);
+    }
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    if (candidates.empty()) break;
+    std::size_t improved = 0;
+    for (const index_t v : candidates) {
+      ++stats.candidates;
+      mesh.vertex_ball(v, ball);
+      mesh.vertex_neighbors(v, neighbours);
+      Vec3 x = mesh.point(v);
+      double len = 0;
+      for (const index_t w : neighbours) len += (mesh.point(w) - x).norm();
+      double step = 0.25 * len / static_cast<double>(std::max<std::size_t>(1, neighbours.size()));
+      double best = ball_min(mesh, ball, v, x);
+      const double start = best;
+      for (int halving = 0; halving < 10; ++halving, step *= 0.5) {
+        bool moved = true;
+        while (moved) {
+          moved = false;
+          for (int d = 0; d < 6; ++d) {
+            Vec3 y = x;
+            y[d / 2] += d % 2 ? -step : step;
+            const double q = ball_min(mesh, ball, v, y);
+            if (q > best) {
+              best = q;
+              x = y;
+              moved = true;
+            }
+          }
+        }
+      }
+      // Stretch > 0 means positive volume, but the exact test decides.
+      if (best > start && mesh.move_vertex(v, x) == OpStatus::Ok) {
+        ++stats.improved;
+        ++improved;
+      }
+    }
+    if (improved == 0) break;
+  }
+  return stats;
+}
+
+}  // namespace femorph
