@@ -23,9 +23,40 @@ double ball_min(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v
 
 }  // namespace
 
+double compass_search_vertex(TetMesh& mesh, index_t v) {
+  thread_local std::vector<index_t> ball, neighbours;
+  mesh.vertex_ball(v, ball);
+  mesh.vertex_neighbors(v, neighbours);
+  Vec3 x = mesh.point(v);
+  double len = 0;
+  for (const index_t w : neighbours) len += (mesh.point(w) - x).norm();
+  double step = 0.25 * len / static_cast<double>(std::max<std::size_t>(1, neighbours.size()));
+  const double start = ball_min(mesh, ball, v, x);
+  double best = start;
+  for (int halving = 0; halving < 10; ++halving, step *= 0.5) {
+    bool moved = true;
+    while (moved) {
+      moved = false;
+      for (int d = 0; d < 6; ++d) {
+        Vec3 y = x;
+        y[d / 2] += d % 2 ? -step : step;
+        const double q = ball_min(mesh, ball, v, y);
+        if (q > best) {
+          best = q;
+          x = y;
+          moved = true;
+        }
+      }
+    }
+  }
+  // Stretch > 0 means positive volume, but the exact test decides.
+  if (best > start && mesh.move_vertex(v, x) == OpStatus::Ok) return best;
+  return start;
+}
+
 WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions& options) {
   WorstVertexStats stats;
-  std::vector<index_t> ball, neighbours, candidates;
+  std::vector<index_t> ball, candidates;
   const auto movable = [&](index_t v) {
     return mesh.vertex_class(v) == VertexClass::Inner &&
            (options.vertex_mask.empty() ||
@@ -48,31 +79,8 @@ WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions
     for (const index_t v : candidates) {
       ++stats.candidates;
       mesh.vertex_ball(v, ball);
-      mesh.vertex_neighbors(v, neighbours);
-      Vec3 x = mesh.point(v);
-      double len = 0;
-      for (const index_t w : neighbours) len += (mesh.point(w) - x).norm();
-      double step = 0.25 * len / static_cast<double>(std::max<std::size_t>(1, neighbours.size()));
-      double best = ball_min(mesh, ball, v, x);
-      const double start = best;
-      for (int halving = 0; halving < 10; ++halving, step *= 0.5) {
-        bool moved = true;
-        while (moved) {
-          moved = false;
-          for (int d = 0; d < 6; ++d) {
-            Vec3 y = x;
-            y[d / 2] += d % 2 ? -step : step;
-            const double q = ball_min(mesh, ball, v, y);
-            if (q > best) {
-              best = q;
-              x = y;
-              moved = true;
-            }
-          }
-        }
-      }
-      // Stretch > 0 means positive volume, but the exact test decides.
-      if (best > start && mesh.move_vertex(v, x) == OpStatus::Ok) {
+      const double start = ball_min(mesh, ball, v, mesh.point(v));
+      if (compass_search_vertex(mesh, v) > start) {
         ++stats.improved;
         ++improved;
       }

@@ -35,4 +35,10 @@ struct WorstVertexStats {
 /// accepted position keeps the ball positive (exact test). Deterministic.
 WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions& options = {});
 
+/// Moves inner vertex v by compass search (axis directions, step a quarter
+/// of its mean edge length, halved ten times) while the minimum stretch of
+/// its ball rises; keeps the ball positive (exact test). Returns the new
+/// minimum stretch of the ball.
+double compass_search_vertex(TetMesh& mesh, index_t v);
+
 }  // namespace femorph

@@ -12,6 +12,7 @@
 #include "improve/improve_volume.h"
 #include "improve/odt_smooth_volume.h"
 #include "improve/optimize_worst_vertices.h"
+#include "improve/split_locked_tets.h"
 #include "improve/remove_degenerate_elements.h"
 #include "improve/remove_inverted_elements.h"
 #include "mesh/tet_mesh.h"
@@ -220,12 +221,15 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
       }
       // The tets ODT leaves next to the boundary: their inner vertex moved
       // to maximise the ball's minimum stretch, then flips again.
+      LockedTetOptions lo;
+      lo.vertex_mask = ivo.smooth.vertex_mask;
+      stats.splits += split_locked_tets(mesh, lo).splits;
       WorstVertexOptions wo;
-      wo.vertex_mask = ivo.smooth.vertex_mask;
+      wo.vertex_mask = movable_vertices(mesh, options);
       stats.moved_vertices += optimize_worst_vertices(mesh, wo).improved;
       if (options.flips) {
         FlipImproveOptions fo;
-        fo.vertex_mask = ivo.smooth.vertex_mask;
+        fo.vertex_mask = wo.vertex_mask;
         const FlipImproveReport fr = improve_tets_by_flips(mesh, fo);
         stats.flips_23 += fr.flips_23;
         stats.flips_32 += fr.flips_32;

@@ -598,6 +598,48 @@ TEST(Improve, BadInput)
     ASSERT_FALSE(messages->Errors.empty());
     EXPECT_NE(messages->Errors[0].find("converge"), std::string::npos) << messages->Errors[0];
   }
+  // An inverted tet no local operation can repair (two tets on the same
+  // side of their shared face, all five points corners): an error naming
+  // it, or with RequireValid off the mesh with it marked.
+  for (const bool requireValid : { true, false })
+  {
+    auto grid = femorph_test::MakeGrid({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 0.1, 0.1, 0.1 } },
+      { { VTK_TETRA, { 0, 1, 2, 3 } }, { VTK_TETRA, { 4, 1, 3, 2 } } });
+    vtkNew<vtkIntArray> regions;  // every boundary face its own region: all points corners
+    regions->SetName("FaceRegion");
+    regions->SetNumberOfComponents(4);
+    regions->InsertNextTuple4(-1, 0, 1, 2);
+    regions->InsertNextTuple4(-1, 3, 4, 5);
+    grid->GetCellData()->AddArray(regions);
+    vtkNew<femorph_test::MessageRecorder> messages;
+    vtkNew<vtkFEMorphImprove> improve;
+    messages->Observe(improve);
+    improve->SetInputData(grid);
+    improve->SetSegmentIfMissing(false);
+    improve->SetRequireValid(requireValid);
+    improve->Update();
+    if (requireValid)
+    {
+      ASSERT_FALSE(messages->Errors.empty());
+      EXPECT_NE(messages->Errors[0].find("1 inverted tetrahedron could not be repaired"), std::string::npos)
+        << messages->Errors[0];
+      EXPECT_EQ(improve->GetOutput()->GetNumberOfCells(), 0);
+    }
+    else
+    {
+      EXPECT_TRUE(messages->Errors.empty());
+      ASSERT_EQ(improve->GetOutput()->GetNumberOfCells(), 2);
+      vtkDataArray* inverted = improve->GetOutput()->GetCellData()->GetArray("Inverted");
+      ASSERT_NE(inverted, nullptr);
+      EXPECT_EQ(inverted->GetComponent(0, 0) + inverted->GetComponent(1, 0), 1);
+      bool warned = false;
+      for (const auto& w : messages->Warnings)
+      {
+        warned = warned || w.find("could not be repaired") != std::string::npos;
+      }
+      EXPECT_TRUE(warned);
+    }
+  }
   // An empty mesh is passed through.
   {
     vtkNew<vtkUnstructuredGrid> empty;
@@ -616,9 +658,6 @@ TEST(Improve, XmlDefaultsEqualCxxDefaults)
   ASSERT_NE(proxy, nullptr);
   vtkNew<vtkFEMorphImprove> d;
   const auto flag = [](vtkTypeBool v) { return femorph_test::XmlProperty{ double(v), 0, 1 }; };
-  femorph_test::XmlProperty region;
-  region.IsString = true;
-  region.DefaultString = d->GetRegionArrayName();
   const std::map<std::string, femorph_test::XmlProperty> expected = {
     { "SetSmoothCurves", flag(d->GetSmoothCurves()) },
     { "SetSmoothSurfaces", flag(d->GetSmoothSurfaces()) },
@@ -640,11 +679,11 @@ TEST(Improve, XmlDefaultsEqualCxxDefaults)
     { "SetGridCellSize", { d->GetGridCellSize(), d->GetGridCellSizeMinValue(), d->GetGridCellSizeMaxValue() } },
     { "SetDegenerateThreshold",
       { d->GetDegenerateThreshold(), d->GetDegenerateThresholdMinValue(), d->GetDegenerateThresholdMaxValue() } },
-    { "SetRegionArrayName", region },
     { "SetSegmentIfMissing", flag(d->GetSegmentIfMissing()) },
     { "SetRequireValid", flag(d->GetRequireValid()) },
   };
-  femorph_test::CheckFilterProperties(proxy, expected);
+  femorph_test::CheckFilterProperties(
+    proxy, expected, {}, { { "SetRegionArrayName", d->GetRegionArrayName() } });
   // The help names the output's arrays.
   vtkXMLDataElement* doc = proxy->FindNestedElementWithName("Documentation");
   ASSERT_NE(doc, nullptr);

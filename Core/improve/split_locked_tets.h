@@ -1,0 +1,37 @@
+// Beyond the thesis: a tet whose four vertices lie on the boundary (at a
+// sharp edge, in a thin wall) has no inner vertex ODT could move. Splitting
+// one of its interior edges (an edge through the inside between two boundary
+// vertices) gives it one; optimize_worst_vertices() then places it.
+#pragma once
+
+#include "common/types.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace femorph {
+
+class TetMesh;
+
+struct LockedTetOptions {
+  /// Tets with stretch (Eq. 1.1) below this and no inner vertex are split.
+  double threshold = 0.3;
+  /// Per vertex slot: only edges whose two ends are flagged. Empty: all.
+  std::vector<std::uint8_t> vertex_mask;
+};
+
+struct LockedTetStats {
+  std::size_t locked = 0;  ///< tets below the threshold with no inner vertex
+  std::size_t splits = 0;  ///< interior edges split (and kept)
+};
+
+/// For each tet below the threshold whose vertices are all on the boundary,
+/// lowest stretch first: splits its longest interior edge at the midpoint,
+/// then moves the new vertex by compass search to maximise the minimum
+/// stretch of its ball. The split is kept only when that minimum beats the
+/// worst tet around the edge before; otherwise it is undone (half-edge
+/// collapse). Deterministic.
+LockedTetStats split_locked_tets(TetMesh& mesh, const LockedTetOptions& options = {});
+
+}  // namespace femorph
