@@ -1,6 +1,7 @@
 // Mesh density control, thesis 2.6.3 Fig. 2.40 (c); see control_mesh_density.h.
 #include "improve/control_mesh_density.h"
 
+#include "improve/ball_quality.h"
 #include "mesh/tet_mesh.h"
 #include "mesh/unique_edges.h"
 #include "quality/tet_quality.h"
@@ -63,12 +64,6 @@ double stretch_with(const TetMesh& mesh, index_t t, index_t from, index_t to, in
     p[q] = v == moved ? position : mesh.point(v);
   }
   return tet_stretch(p[0], p[1], p[2], p[3]);
-}
-
-double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, index_t moved, const Vec3& position) {
-  double worst = std::numeric_limits<double>::infinity();
-  for (const index_t t : ball) worst = std::min(worst, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, moved, position));
-  return worst;
 }
 
 /// The stretch floor: refuse when the new worst tet is below the floor and

@@ -1,6 +1,7 @@
 // Shape approximation accuracy control, thesis 2.6.4.
 #include "improve/control_shape_accuracy.h"
 
+#include "improve/optimize_worst_vertices.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
 
@@ -98,7 +99,8 @@ AccuracyControlStats control_shape_accuracy(TetMesh& mesh, const BoundaryGeometr
   stats.edges_over = heap.size();  // each edge once per region it bounds
   const std::size_t max_splits = options.max_splits ? options.max_splits : 4 * heap.size() + 100;
 
-  std::vector<index_t> ring, ball;
+  std::vector<index_t> ring, ball, around;
+  std::vector<std::pair<index_t, Vec3>> moved;  // inner vertices moved for a split, to undo
   while (!heap.empty() && stats.splits < max_splits) {
     const Entry e = heap.top();
     heap.pop();
@@ -116,12 +118,31 @@ AccuracyControlStats control_shape_accuracy(TetMesh& mesh, const BoundaryGeometr
     Vec3 q;
     bool ok = c.kind == VertexConstraint::Surface || c.kind == VertexConstraint::Curve;
     ok = ok && project_to_constraint(c, mesh.point(v), &q) && mesh.move_vertex(v, q) == OpStatus::Ok;
+    moved.clear();
     if (ok) {
       mesh.vertex_ball(v, ball);
-      const double new_min = min_stretch_of(mesh, ball);
+      double new_min = min_stretch_of(mesh, ball);
+      if (new_min < options.min_stretch && new_min < old_min) {
+        // The projected vertex flattened a tet: place the inner vertices
+        // around it for the best ball quality before giving up.
+        around.clear();
+        for (const index_t t : ball)
+          for (const index_t w : mesh.tet(t))
+            if (mesh.vertex_class(w) == VertexClass::Inner && masked(options.vertex_mask, w)) around.push_back(w);
+        std::sort(around.begin(), around.end());
+        around.erase(std::unique(around.begin(), around.end()), around.end());
+        for (const index_t w : around) {
+          const Vec3 before = mesh.point(w);
+          compass_search_vertex(mesh, w);
+          if (mesh.point(w) != before) moved.emplace_back(w, before);
+        }
+        mesh.vertex_ball(v, ball);
+        new_min = min_stretch_of(mesh, ball);
+      }
       ok = !(new_min < options.min_stretch && new_min < old_min);
     }
     if (!ok) {
+      for (auto it = moved.rbegin(); it != moved.rend(); ++it) mesh.set_point(it->first, it->second);
       mesh.half_edge_collapse(v, e.a);  // restores the tets of the edge
       ++stats.refused;
       continue;

@@ -1,5 +1,6 @@
 // ODT vertex repositioning, thesis Eq. 2.31 with the barycentre rule of
 // Fig. 2.33 (b) and 2.6.5.4, step size halved against inversion.
+#include "improve/ball_quality.h"
 #include "improve/odt_smooth_volume.h"
 
 #include "improve/locally_delaunay.h"
@@ -11,22 +12,6 @@
 #include <limits>
 
 namespace femorph {
-
-namespace {
-
-/// Minimum stretch over `ball` with vertex v placed at p.
-double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p) {
-  double q = std::numeric_limits<double>::infinity();
-  for (index_t t : ball) {
-    const Tet& T = mesh.tet(t);
-    const Vec3* x[4];
-    for (int i = 0; i < 4; ++i) x[i] = T[i] == v ? &p : &mesh.point(T[i]);
-    q = std::min(q, tet_stretch(*x[0], *x[1], *x[2], *x[3]));
-  }
-  return q;
-}
-
-}  // namespace
 
 OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options) {
   OdtSmoothReport report;
@@ -95,7 +80,7 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
       for (int h = 0; h <= options.max_halvings; ++h, alpha *= 0.5) {
         if (h > 0) ++report.halvings;
         const Vec3 p = x + alpha * step;
-        if (options.quality_guard && ball_min_stretch(mesh, ball, v, p) < old_min) continue;
+        if (options.quality_guard && !move_keeps_quality(mesh, ball, v, p, old_min, options.quality_floor)) continue;
         if (mesh.move_vertex(v, p) == OpStatus::Ok) {
           accepted = true;
           break;

@@ -40,6 +40,11 @@ struct OdtSmoothOptions {
   /// of the mesh monotone; off gives the thesis' plain rule (step halved only
   /// against inversion).
   bool quality_guard = true;
+  /// With the guard, no tet of the ball at or above this stretch may fall
+  /// below it (move_keeps_quality()). Off (0) for inner vertices: the rule
+  /// blocks moves that ODT needs (fandisk, inner vertices jittered: min
+  /// stretch 0.21 without, 0.17 with 0.3); the boundary phases use it.
+  double quality_floor = 0;
 };
 
 struct OdtSmoothReport {

@@ -1,5 +1,6 @@
 #include "improve/optimize_worst_vertices.h"
 
+#include "improve/ball_quality.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
 
@@ -7,21 +8,6 @@
 #include <limits>
 
 namespace femorph {
-
-namespace {
-
-double ball_min(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p) {
-  double q = std::numeric_limits<double>::infinity();
-  for (const index_t t : ball) {
-    const Tet& T = mesh.tet(t);
-    const Vec3* x[4];
-    for (int i = 0; i < 4; ++i) x[i] = T[i] == v ? &p : &mesh.point(T[i]);
-    q = std::min(q, tet_stretch(*x[0], *x[1], *x[2], *x[3]));
-  }
-  return q;
-}
-
-}  // namespace
 
 double compass_search_vertex(TetMesh& mesh, index_t v) {
   thread_local std::vector<index_t> ball, neighbours;
@@ -31,7 +17,7 @@ double compass_search_vertex(TetMesh& mesh, index_t v) {
   double len = 0;
   for (const index_t w : neighbours) len += (mesh.point(w) - x).norm();
   double step = 0.25 * len / static_cast<double>(std::max<std::size_t>(1, neighbours.size()));
-  const double start = ball_min(mesh, ball, v, x);
+  const double start = ball_min_stretch(mesh, ball, v, x);
   double best = start;
   for (int halving = 0; halving < 10; ++halving, step *= 0.5) {
     bool moved = true;
@@ -40,7 +26,7 @@ double compass_search_vertex(TetMesh& mesh, index_t v) {
       for (int d = 0; d < 6; ++d) {
         Vec3 y = x;
         y[d / 2] += d % 2 ? -step : step;
-        const double q = ball_min(mesh, ball, v, y);
+        const double q = ball_min_stretch(mesh, ball, v, y);
         if (q > best) {
           best = q;
           x = y;
@@ -79,7 +65,7 @@ WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions
     for (const index_t v : candidates) {
       ++stats.candidates;
       mesh.vertex_ball(v, ball);
-      const double start = ball_min(mesh, ball, v, mesh.point(v));
+      const double start = ball_min_stretch(mesh, ball, v, mesh.point(v));
       if (compass_search_vertex(mesh, v) > start) {
         ++stats.improved;
         ++improved;

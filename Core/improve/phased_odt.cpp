@@ -2,12 +2,9 @@
 #include "improve/phased_odt.h"
 
 #include "improve/control_mesh_density.h"
-#if __has_include("improve/flip_surface_edges.h") && __has_include("improve/odt_smooth_curves.h")
-#define FEMORPH_HAVE_PHASE12 1
 #include "improve/flip_surface_edges.h"
 #include "improve/odt_smooth_curves.h"
 #include "improve/odt_smooth_surface.h"
-#endif
 #include "improve/improve_tets_by_flips.h"
 #include "improve/improve_volume.h"
 #include "improve/odt_smooth_volume.h"
@@ -156,7 +153,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
       if (options.accuracy_control && !target.acceptable_error.empty()) {
         AccuracyControlOptions aco;
         aco.vertex_mask = movable;
-        aco.min_stretch = options.degenerate_threshold;
+        aco.min_stretch = options.quality_floor;
         const AccuracyControlStats as = control_shape_accuracy(mesh, geometry, target.acceptable_error, aco);
         stats.splits += as.splits;
         stats.accuracy_splits += as.splits;
@@ -166,20 +163,19 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
       // (A) ODT smoothing of this phase's elements (2.6.5), then its flips.
       const std::vector<std::uint8_t> smooth_mask = movable_vertices(mesh, options);
       if (phase < 2) {
-#ifdef FEMORPH_HAVE_PHASE12
         BoundarySmoothOptions bso;
         bso.iterations = options.odt_iterations;
         bso.vertex_mask = smooth_mask;
+        bso.quality_floor = options.quality_floor;
         const OdtSmoothReport r =
             phase == 0 ? odt_smooth_curves(mesh, geometry, bso) : odt_smooth_surface(mesh, geometry, bso);
         stats.moved_vertices += r.moved;
         if (phase == 1 && options.flips) {
           SurfaceFlipOptions sfo;
           sfo.vertex_mask = smooth_mask;
-          sfo.min_stretch = options.degenerate_threshold;
+          sfo.min_stretch = options.quality_floor;
           stats.surface_flips += flip_surface_edges(mesh, geometry, sfo).flips;
         }
-#endif
       } else {
         OdtSmoothOptions oso;
         oso.iterations = options.odt_iterations;

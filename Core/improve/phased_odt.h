@@ -43,6 +43,11 @@ struct PhasedOdtOptions {
   double collapse_threshold = 0.67;
   /// gamma_st, stretch below which a tet is degenerated (2.6.2).
   double degenerate_threshold = 0.05;
+  /// Beyond the thesis: the boundary steps (accuracy splits, surface flips,
+  /// curve and surface smoothing) may not make a tet below this stretch
+  /// that is also worse than the worst tet they replace; their vertices stay
+  /// on the boundary, where the volume phase cannot repair them.
+  double quality_floor = 0.3;
   /// Restriction to a region (Deform, Adapt): one flag per tet slot; only
   /// vertices all of whose tets are flagged move, and only edges between such
   /// vertices are split, collapsed or flipped. Empty: the whole mesh.

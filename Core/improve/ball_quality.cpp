@@ -1,0 +1,38 @@
+#include "improve/ball_quality.h"
+
+#include "mesh/tet_mesh.h"
+#include "quality/tet_quality.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace femorph {
+
+namespace {
+
+double stretch_with(const TetMesh& mesh, index_t t, index_t v, const Vec3& p) {
+  const Tet& T = mesh.tet(t);
+  const Vec3* x[4];
+  for (int i = 0; i < 4; ++i) x[i] = T[i] == v ? &p : &mesh.point(T[i]);
+  return tet_stretch(*x[0], *x[1], *x[2], *x[3]);
+}
+
+}  // namespace
+
+double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p) {
+  double q = std::numeric_limits<double>::infinity();
+  for (const index_t t : ball) q = std::min(q, stretch_with(mesh, t, v, p));
+  return q;
+}
+
+bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,
+                        double old_min, double floor) {
+  for (const index_t t : ball) {
+    const double q = stretch_with(mesh, t, v, p);
+    if (q < old_min) return false;
+    if (q < floor && stretch_with(mesh, t, kInvalidIndex, p) >= floor) return false;
+  }
+  return true;
+}
+
+}  // namespace femorph

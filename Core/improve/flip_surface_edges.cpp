@@ -1,0 +1,121 @@
+// Surface edge flips of Phased ODT smoothing (thesis 2.6.5.3, Fig. 2.45):
+// toward a Delaunay triangulation of each fitted region.
+#include "improve/flip_surface_edges.h"
+
+#include "improve/boundary_geometry.h"
+#include "mesh/tet_mesh.h"
+#include "quality/tet_quality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace femorph {
+
+namespace {
+
+/// Angle at vertex p of triangle (p, q, r).
+double angle_at(const Vec3& p, const Vec3& q, const Vec3& r) {
+  const Vec3 a = q - p, b = r - p;
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+double min_angle(const Vec3& p, const Vec3& q, const Vec3& r) {
+  return std::min({angle_at(p, q, r), angle_at(q, r, p), angle_at(r, p, q)});
+}
+
+/// The vertex of the boundary face of tet t holding edge (a, b) other than a
+/// and b, and the face's region; false when t has no such face.
+bool boundary_apex(const TetMesh& mesh, index_t t, index_t a, index_t b, index_t* apex, index_t* region) {
+  const Tet& T = mesh.tet(t);
+  for (int f = 0; f < 4; ++f) {
+    if (T[f] == a || T[f] == b || !mesh.is_boundary_face(t, f)) continue;
+    for (int i = 0; i < 3; ++i) {
+      const index_t u = T[kTetFace[f][i]];
+      if (u != a && u != b) *apex = u;
+    }
+    *region = mesh.face_region(t, f);
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+SurfaceFlipStats flip_surface_edges(TetMesh& mesh, const BoundaryGeometry& geometry,
+                                    const SurfaceFlipOptions& options) {
+  SurfaceFlipStats stats;
+  const auto& mask = options.vertex_mask;
+  auto masked_in = [&mask](index_t v) {
+    return mask.empty() || (static_cast<std::size_t>(v) < mask.size() && mask[v]);
+  };
+  std::vector<index_t> ring;
+  for (int pass = 0; pass < options.max_passes; ++pass) {
+    std::size_t flips = 0;
+    for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+      for (int f = 0; f < 4; ++f) {
+        if (!mesh.tet_alive(t)) break;
+        if (!mesh.is_boundary_face(t, f)) continue;
+        const index_t region = mesh.face_region(t, f);
+        const SurfacePrimitive* surface = geometry.region(region);
+        if (!surface) continue;  // unfitted: a flip would change its shape
+        const Tet& T = mesh.tet(t);
+        const index_t u[3] = {T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]};
+        for (int e = 0; e < 3; ++e) {
+          // Face (a, b, c) outward; each edge once, from the face where a < b.
+          const index_t a = u[e], b = u[(e + 1) % 3], c = u[(e + 2) % 3];
+          if (a > b || !masked_in(a) || !masked_in(b) || !masked_in(c)) continue;
+          bool on_boundary = false;
+          if (!mesh.edge_ring(a, b, ring, &on_boundary, t) || !on_boundary || ring.size() < 2) continue;
+          index_t c0 = kInvalidIndex, c1 = kInvalidIndex, r0 = kInvalidIndex, r1 = kInvalidIndex;
+          if (!boundary_apex(mesh, ring.front(), a, b, &c0, &r0) || !boundary_apex(mesh, ring.back(), a, b, &c1, &r1))
+            continue;
+          if (r0 != region || r1 != region) continue;  // a curve edge
+          const index_t d = c0 == c ? c1 : c0;
+          if ((c0 != c && c1 != c) || d == c || !masked_in(d)) continue;
+          const Vec3 &pa = mesh.point(a), &pb = mesh.point(b), &pc = mesh.point(c), &pd = mesh.point(d);
+          // Not Delaunay: the opposite angles sum to more than pi.
+          if (!(angle_at(pc, pa, pb) + angle_at(pd, pb, pa) > kPi + 1e-12)) continue;
+          // The flip must raise the smaller minimum angle ...
+          if (!(std::min(min_angle(pc, pd, pa), min_angle(pd, pc, pb)) >
+                std::min(min_angle(pa, pb, pc), min_angle(pb, pa, pd)) + 1e-12))
+            continue;
+          // ... and keep the quad convex: new faces (a, d, c), (b, c, d)
+          // oriented like the old (a, b, c), (b, a, d).
+          const Vec3 n_abc = (pb - pa).cross(pc - pa), n_bad = (pa - pb).cross(pd - pb);
+          const Vec3 n_adc = (pd - pa).cross(pc - pa), n_bcd = (pc - pb).cross(pd - pb);
+          if (!(n_adc.dot(n_abc) > 0 && n_adc.dot(n_bad) > 0 && n_bcd.dot(n_abc) > 0 && n_bcd.dot(n_bad) > 0))
+            continue;
+          // Tets of the flip (split at the midpoint m, m collapsed onto c):
+          // each ring tet without c becomes two, with b resp. a replaced by c.
+          double before = std::numeric_limits<double>::infinity(), after = before;
+          for (index_t r : ring) {
+            const Tet& R = mesh.tet(r);
+            Vec3 x[4];
+            for (int i = 0; i < 4; ++i) x[i] = mesh.point(R[i]);
+            before = std::min(before, tet_stretch(x[0], x[1], x[2], x[3]));
+            if (mesh.local_index(r, c) >= 0) continue;
+            for (const index_t replaced : {a, b}) {
+              Vec3 y[4];
+              for (int i = 0; i < 4; ++i) y[i] = R[i] == replaced ? pc : x[i];
+              after = std::min(after, tet_stretch(y[0], y[1], y[2], y[3]));
+            }
+          }
+          const bool ok = surface->type == SurfaceType::Plane
+                              ? after >= std::min(before, options.min_stretch)
+                              : after >= options.min_stretch && after >= before;
+          if (ok && mesh.flip_surface_edge(a, b, t) == OpStatus::Ok) {
+            ++stats.flips;
+            ++flips;
+            break;  // tet t changed: go on with its next face
+          }
+          ++stats.refused;
+        }
+      }
+    }
+    if (flips == 0) break;
+  }
+  return stats;
+}
+
+}  // namespace femorph

@@ -1,0 +1,310 @@
+// Phase (2) of Phased ODT smoothing (thesis 2.6.5.3): Eq. 2.34 over the
+// surface triangles around each surface vertex, in the 2D parameter plane of
+// its fitted region (Fig. 2.43, 2.44 steps 1-3).
+#include "improve/ball_quality.h"
+#include "improve/odt_smooth_surface.h"
+
+#include "improve/boundary_geometry.h"
+#include "mesh/tet_mesh.h"
+#include "quality/tet_quality.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace femorph {
+
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+
+/// A unit vector perpendicular to the unit vector n (deterministic).
+Vec3 perpendicular(const Vec3& n) {
+  const Vec3 t = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : (std::abs(n.y()) < 0.6 ? Vec3::UnitY() : Vec3::UnitZ());
+  return (t - t.dot(n) * n).normalized();
+}
+
+/// The 2D parameter plane of a fitted surface around a point x on it
+/// (Fig. 2.43); angles are measured from x, so the 1-ring of x never meets
+/// the seam at +-pi. map() is isometric at x.
+class Chart {
+ public:
+  bool init(const SurfacePrimitive& s, const Vec3& x) {
+    s_ = &s;
+    switch (s.type) {
+      case SurfaceType::Plane:
+        o_ = x;
+        a_ = s.axis.normalized();
+        e1_ = perpendicular(a_);
+        break;
+      case SurfaceType::Cylinder:
+      case SurfaceType::Cone:
+      case SurfaceType::Torus: {
+        o_ = s.point;
+        a_ = s.axis.normalized();
+        const Vec3 d = x - o_;
+        h0_ = d.dot(a_);
+        const Vec3 radial = d - h0_ * a_;
+        const double rho = radial.norm();
+        if (!(rho > 1e-12 * (d.norm() + s.radius))) return false;  // on the axis
+        e1_ = radial / rho;
+        if (s.type == SurfaceType::Cone) sin_half_ = std::sin(s.half_angle), cos_half_ = std::cos(s.half_angle);
+        if (s.type == SurfaceType::Torus) {
+          phi0_ = std::atan2(h0_, rho - s.radius);
+          ring_ = s.radius + s.minor_radius * std::cos(phi0_);
+          if (!(ring_ > 0) || !(s.minor_radius > 0)) return false;
+        }
+        if (s.type == SurfaceType::Cylinder && !(s.radius > 0)) return false;
+        if (s.type == SurfaceType::Cone && !(sin_half_ > 0)) return false;
+        break;
+      }
+      case SurfaceType::Sphere: {
+        o_ = s.point;
+        const Vec3 d = x - o_;
+        if (!(d.norm() > 0) || !(s.radius > 0)) return false;
+        e1_ = d.normalized();
+        a_ = perpendicular(e1_);  // v on the equator: the pole is perpendicular to it
+        break;
+      }
+      default:
+        return false;
+    }
+    e2_ = a_.cross(e1_);
+    return true;
+  }
+
+  Vec2 map(const Vec3& p) const {
+    const Vec3 d = p - o_;
+    const double u = d.dot(e1_), w = d.dot(e2_);
+    switch (s_->type) {
+      case SurfaceType::Plane:
+        return Vec2(u, w);
+      case SurfaceType::Cylinder:  // development: arc length, height
+        return Vec2(s_->radius * std::atan2(w, u), d.dot(a_) - h0_);
+      case SurfaceType::Cone: {  // development about the apex
+        const double psi = std::atan2(w, u) * sin_half_;
+        const double s = d.norm();
+        return Vec2(s * std::cos(psi), s * std::sin(psi));
+      }
+      case SurfaceType::Sphere: {  // (azimuth, latitude) with v on the equator
+        const double z = d.dot(a_);
+        return s_->radius * Vec2(std::atan2(w, u), std::atan2(z, std::hypot(u, w)));
+      }
+      case SurfaceType::Torus: {  // (toroidal, poloidal) angles relative to v
+        const double z = d.dot(a_);
+        const double phi = std::atan2(z, std::hypot(u, w) - s_->radius);
+        return Vec2(ring_ * std::atan2(w, u), s_->minor_radius * std::remainder(phi - phi0_, 2 * kPi));
+      }
+      default:
+        return Vec2(u, w);
+    }
+  }
+
+  Vec3 unmap(const Vec2& q) const {
+    switch (s_->type) {
+      case SurfaceType::Plane:
+        return o_ + q.x() * e1_ + q.y() * e2_;
+      case SurfaceType::Cylinder: {
+        const double t = q.x() / s_->radius;
+        return o_ + (h0_ + q.y()) * a_ + s_->radius * (std::cos(t) * e1_ + std::sin(t) * e2_);
+      }
+      case SurfaceType::Cone: {
+        const double s = q.norm(), t = std::atan2(q.y(), q.x()) / sin_half_;
+        return o_ + s * (cos_half_ * a_ + sin_half_ * (std::cos(t) * e1_ + std::sin(t) * e2_));
+      }
+      case SurfaceType::Sphere: {
+        const double t = q.x() / s_->radius, lat = q.y() / s_->radius;
+        return o_ + s_->radius * (std::cos(lat) * (std::cos(t) * e1_ + std::sin(t) * e2_) + std::sin(lat) * a_);
+      }
+      case SurfaceType::Torus: {
+        const double t = q.x() / ring_, phi = phi0_ + q.y() / s_->minor_radius;
+        const double rho = s_->radius + s_->minor_radius * std::cos(phi);
+        return o_ + rho * (std::cos(t) * e1_ + std::sin(t) * e2_) + s_->minor_radius * std::sin(phi) * a_;
+      }
+      default:
+        return o_ + q.x() * e1_ + q.y() * e2_;
+    }
+  }
+
+ private:
+  const SurfacePrimitive* s_ = nullptr;
+  Vec3 o_ = Vec3::Zero(), a_ = Vec3::Zero(), e1_ = Vec3::Zero(), e2_ = Vec3::Zero();
+  double h0_ = 0, sin_half_ = 0, cos_half_ = 0, phi0_ = 0, ring_ = 0;
+};
+
+double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Circumcentre and squared radius of a 2D triangle; false when it is
+/// (nearly) degenerate.
+bool circumcircle(const Vec2& p0, const Vec2& p1, const Vec2& p2, Vec2* centre, double* r2) {
+  const Vec2 b = p1 - p0, c = p2 - p0;
+  const double d = 2 * cross2(b, c);
+  if (!(std::abs(d) > 1e-12 * b.squaredNorm() + 1e-12 * c.squaredNorm())) return false;
+  const Vec2 u((c.y() * b.squaredNorm() - b.y() * c.squaredNorm()) / d,
+               (b.x() * c.squaredNorm() - c.x() * b.squaredNorm()) / d);
+  *centre = p0 + u;
+  *r2 = u.squaredNorm();
+  return std::isfinite(*r2);
+}
+
+int sign(double x) { return (x > 0) - (x < 0); }
+
+/// The third vertex of the other boundary face on edge (p, q) than the one
+/// with apex v, when that face lies in `region`; -1 otherwise. t: a tet on
+/// the edge.
+index_t opposite_vertex(const TetMesh& mesh, index_t p, index_t q, index_t v, index_t region, index_t t,
+                        std::vector<index_t>& ring) {
+  bool on_boundary = false;
+  if (!mesh.edge_ring(p, q, ring, &on_boundary, t) || !on_boundary) return kInvalidIndex;
+  for (const index_t r : {ring.front(), ring.back()}) {
+    const Tet& T = mesh.tet(r);
+    for (int f = 0; f < 4; ++f) {
+      if (T[f] == p || T[f] == q || !mesh.is_boundary_face(r, f) || mesh.face_region(r, f) != region) continue;
+      for (int i = 0; i < 3; ++i) {
+        const index_t u = T[kTetFace[f][i]];
+        if (u != p && u != q && u != v) return u;
+      }
+    }
+  }
+  return kInvalidIndex;
+}
+
+}  // namespace
+
+OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geometry,
+                                   const BoundarySmoothOptions& options) {
+  OdtSmoothReport report;
+  const index_t slots = mesh.vertex_slots();
+  const bool use_mask = !options.vertex_mask.empty();
+  std::vector<index_t> ball;
+  std::vector<std::array<index_t, 3>> ring;  // boundary triangles (v, p, q), outward, and their tet
+  std::vector<index_t> edge_tets;
+  std::vector<index_t> link;                 // their vertices p, q without repeats
+  std::vector<Vec2> link2;                   // ... mapped to the parameter plane
+  std::vector<std::array<int, 2>> ring_local;
+  std::vector<int> old_sign;
+  std::vector<Vec2> opposite2;  // vertex across each ring triangle's outer edge, mapped
+  std::vector<std::uint8_t> has_opposite;
+  Chart chart;
+
+  for (int sweep = 0; sweep < options.iterations; ++sweep) {
+    ++report.sweeps;
+    double max_step = 0;
+    for (index_t v = 0; v < slots; ++v) {
+      if (!mesh.vertex_alive(v) || mesh.vertex_class(v) != VertexClass::Surface) continue;
+      if (use_mask && (static_cast<std::size_t>(v) >= options.vertex_mask.size() || !options.vertex_mask[v])) continue;
+      const VertexConstraint c = vertex_constraint(mesh, geometry, v);
+      if (c.kind != VertexConstraint::Surface) continue;
+      const Vec3 x = mesh.point(v);
+      if (!chart.init(*c.surface, x)) continue;
+
+      // The 1-ring of boundary triangles: boundary faces of the ball.
+      mesh.vertex_ball(v, ball);
+      ring.clear();
+      link.clear();
+      for (index_t t : ball) {
+        const Tet& T = mesh.tet(t);
+        for (int f = 0; f < 4; ++f) {
+          if (T[f] == v || !mesh.is_boundary_face(t, f)) continue;
+          std::array<index_t, 3> face{T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]};
+          while (face[0] != v) std::rotate(face.begin(), face.begin() + 1, face.end());
+          ring.push_back({face[1], face[2], t});
+          for (int i = 1; i < 3; ++i)
+            if (std::find(link.begin(), link.end(), face[i]) == link.end()) link.push_back(face[i]);
+        }
+      }
+      if (ring.size() < 3) continue;
+      // Step 1 (Fig. 2.44): map v and its ring to the parameter plane.
+      const Vec2 x2 = chart.map(x);
+      link2.resize(link.size());
+      double len = 0;
+      for (std::size_t i = 0; i < link.size(); ++i) {
+        link2[i] = chart.map(mesh.point(link[i]));
+        len += (mesh.point(link[i]) - x).norm();
+      }
+      len /= static_cast<double>(link.size());
+      ring_local.resize(ring.size());
+      old_sign.resize(ring.size());
+      opposite2.resize(ring.size());
+      has_opposite.assign(ring.size(), 0);
+      for (std::size_t k = 0; k < ring.size(); ++k) {
+        for (int i = 0; i < 2; ++i)
+          ring_local[k][i] = static_cast<int>(std::find(link.begin(), link.end(), ring[k][i]) - link.begin());
+        // The vertex across the outer edge (p, q), when in the same region.
+        const index_t o = opposite_vertex(mesh, ring[k][0], ring[k][1], v, c.region_a, ring[k][2], edge_tets);
+        if (o >= 0) {
+          opposite2[k] = chart.map(mesh.point(o));
+          has_opposite[k] = 1;
+        }
+      }
+
+      // Step 2: Eq. 2.34, the unweighted mean of the centres c_tau.
+      Vec2 sum = Vec2::Zero();
+      double ring_area = 0;
+      for (std::size_t k = 0; k < ring.size(); ++k) {
+        const Vec2 &p = link2[ring_local[k][0]], &q = link2[ring_local[k][1]];
+        old_sign[k] = sign(cross2(p - x2, q - x2));
+        ring_area += cross2(p - x2, q - x2);
+        Vec2 centre = (x2 + p + q) / 3;
+        const bool region_boundary = mesh.vertex_class(ring[k][0]) != VertexClass::Surface ||
+                                     mesh.vertex_class(ring[k][1]) != VertexClass::Surface;
+        Vec2 cc;
+        double r2 = 0;
+        if (!region_boundary && circumcircle(x2, p, q, &cc, &r2)) {
+          // Delaunay: no other ring vertex, nor the one across (p, q), inside.
+          bool delaunay = true;
+          for (std::size_t i = 0; i < link.size() && delaunay; ++i)
+            if (static_cast<int>(i) != ring_local[k][0] && static_cast<int>(i) != ring_local[k][1])
+              delaunay = (link2[i] - cc).squaredNorm() >= r2 * (1 - 1e-12);
+          if (delaunay && has_opposite[k]) delaunay = (opposite2[k] - cc).squaredNorm() >= r2 * (1 - 1e-12);
+          if (delaunay) centre = cc;
+        }
+        sum += centre;
+      }
+      // The ring's orientation in the chart; a triangle already folded there
+      // (a sliver the chart's distortion turned over) is not held to it.
+      const int orientation = sign(ring_area);
+      for (int& s : old_sign) s = s == orientation ? s : 0;
+      const Vec2 step = sum / static_cast<double>(ring.size()) - x2;
+      const double relative = step.norm() / len;
+      if (!std::isfinite(relative) || relative <= options.tolerance * 1e-3) continue;  // already there
+
+      // Step 3: map back, project onto the surface; alpha halved while the
+      // move inverts a tet, folds a ring triangle or lowers the ball's quality.
+      const double old_min = options.quality_guard ? ball_min_stretch(mesh, ball, v, x) : 0;
+      double alpha = 1;
+      bool accepted = false;
+      Vec3 p;
+      for (int h = 0; h <= options.max_halvings; ++h, alpha *= 0.5) {
+        if (h > 0) ++report.halvings;
+        const Vec2 q2 = x2 + alpha * step;
+        if (!project_to_constraint(c, chart.unmap(q2), &p)) continue;
+        bool folds = false;
+        for (std::size_t k = 0; k < ring.size() && !folds; ++k)
+          folds = old_sign[k] != 0 &&
+                  sign(cross2(link2[ring_local[k][0]] - q2, link2[ring_local[k][1]] - q2)) != old_sign[k];
+        if (folds) continue;
+        if (options.quality_guard && !move_keeps_quality(mesh, ball, v, p, old_min, options.quality_floor)) continue;
+        if (mesh.move_vertex(v, p) == OpStatus::Ok) {
+          accepted = true;
+          break;
+        }
+      }
+      if (accepted) {
+        ++report.moved;
+        max_step = std::max(max_step, (p - x).norm() / len);
+      } else {
+        ++report.refused;
+      }
+    }
+    report.last_max_step = max_step;
+    if (max_step <= options.tolerance) {
+      report.converged = true;
+      break;
+    }
+  }
+  return report;
+}
+
+}  // namespace femorph
