@@ -437,6 +437,81 @@ TEST(Improve, JitteredInnerVertices)
   ExpectAccuracyKept(run.Output);
 }
 
+// Issue 5 (c): surface vertices slid within their planes by up to 45% of
+// their mean edge length, which folds some tets over (inverted) and
+// flattens many (stretch below 0.05).
+TEST(Improve, SlidSurfaceVertices)
+{
+  auto part = femorph_test::ReadPart("boss_block.vtu");
+  ASSERT_NE(part, nullptr);
+  auto segmented = Segmented(part);
+  Arrays a = ToArrays(segmented);
+  const Quality undeformed = Measure(a);
+  const auto regions = PointRegions(segmented, a);
+  vtkDataArray* types = segmented->GetFieldData()->GetArray("RegionType");
+  vtkDataArray* params = segmented->GetFieldData()->GetArray("RegionParameters");
+  vtkDataArray* classes = segmented->GetPointData()->GetArray("VertexClass");
+  ASSERT_TRUE(types && params && classes);
+  std::vector<double> length(a.Points.size(), 0);
+  std::vector<int> count(a.Points.size(), 0);
+  for (const Tet& t : a.Tets)
+  {
+    for (int i = 0; i < 4; ++i)
+    {
+      for (int j = 0; j < 4; ++j)
+      {
+        if (i != j)
+        {
+          length[t[i]] += (a.Points[t[j]] - a.Points[t[i]]).norm();
+          ++count[t[i]];
+        }
+      }
+    }
+  }
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::size_t slid = 0;
+  for (std::size_t v = 0; v < a.Points.size(); ++v)
+  {
+    if (classes->GetComponent(static_cast<vtkIdType>(v), 0) != 1 || regions[v].size() != 1)
+    {
+      continue;
+    }
+    const int r = *regions[v].begin();
+    if (types->GetComponent(r, 0) != 0)  // planes only
+    {
+      continue;
+    }
+    const Vec3 n(params->GetComponent(r, 3), params->GetComponent(r, 4), params->GetComponent(r, 5));
+    Vec3 d(u(rng), u(rng), u(rng));
+    d -= d.dot(n) * n;
+    if (d.norm() > 1)
+    {
+      d /= d.norm();
+    }
+    a.Points[v] += 0.45 * length[v] / count[v] * d;
+    ++slid;
+  }
+  const Quality slidQuality = Measure(a);
+  std::size_t flat = 0;
+  for (const Tet& t : a.Tets)
+  {
+    flat += femorph::tet_stretch(a.Points[t[0]], a.Points[t[1]], a.Points[t[2]], a.Points[t[3]]) < 0.05;
+  }
+  std::printf("  %zu surface points slid: %zu inverted, %zu below 0.05\n", slid, slidQuality.Inverted, flat);
+  EXPECT_GT(slidQuality.Inverted, 0u);
+  EXPECT_GT(flat, 100u);
+  ImproveRun run = Improve(WithPoints(segmented, a.Points), segmented);
+  ASSERT_GT(run.Out.Tets.size(), 0u);
+  ExpectValid(run.Output, run.Out);
+  EXPECT_GE(run.After.Min, 0.3);
+  EXPECT_GE(run.After.Mean, undeformed.Mean);
+  EXPECT_LE(MaxSurfaceDistance(run.Output, run.Out, segmented), 1e-9);
+  // Planar faces: the part's volume is the input's (inverted tets count
+  // negative in both sums, so the signed volume of the input is the part's).
+  EXPECT_NEAR(run.After.Volume, undeformed.Volume, 1e-3 * undeformed.Volume);
+}
+
 // An input that needs nothing: the Data part itself, with itself as the
 // reference. Quality does not drop, the density error does not grow, the
 // tet count stays within 10%.
