@@ -1,0 +1,242 @@
+// Phased ODT (thesis 2.6, Fig. 2.34) in the core: the loop on a jittered
+// cube (planar: volume and faces exact), the region restriction and abort;
+// shape approximation accuracy control (2.6.4) and the curve vertex lists
+// traced after it on an annulus; the edge enumeration.
+#include "improve/boundary_geometry.h"
+#include "improve/control_shape_accuracy.h"
+#include "improve/mesh_density.h"
+#include "improve/phased_odt.h"
+#include "mesh/tet_mesh.h"
+#include "mesh/trace_boundary_curves.h"
+#include "mesh/unique_edges.h"
+#include "quality/check_validity.h"
+#include "quality/tet_quality.h"
+#include "test_improve_meshes.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <set>
+
+namespace femorph {
+namespace {
+
+using namespace testing::improve_meshes;
+
+TetMesh build(const testing::TestMesh& m) {
+  TetMesh mesh;
+  BuildOptions options;
+  options.face_regions = m.face_regions;
+  const Status status = mesh.build(m.points, m.tets, options);
+  EXPECT_TRUE(status.ok) << status.message;
+  return mesh;
+}
+
+BoundaryGeometry cube_geometry() {
+  BoundaryGeometry g;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) g.regions.push_back(plane(side * Vec3::Unit(axis), Vec3::Unit(axis)));
+  return g;
+}
+
+/// Every inner vertex by up to 40% of its mean edge length (issue 5 (a));
+/// moves that would invert are refused by TetMesh.
+void jitter_inner(TetMesh& mesh, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<index_t> nb;
+  for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
+    if (!mesh.vertex_alive(v) || mesh.on_boundary(v)) continue;
+    mesh.vertex_neighbors(v, nb);
+    double len = 0;
+    for (const index_t w : nb) len += (mesh.point(w) - mesh.point(v)).norm();
+    len /= static_cast<double>(nb.size());
+    Vec3 d;
+    do d = Vec3(u(rng), u(rng), u(rng));
+    while (d.squaredNorm() > 1);
+    mesh.move_vertex(v, mesh.point(v) + 0.4 * len * d);
+  }
+}
+
+struct Measured {
+  double min = std::numeric_limits<double>::infinity(), mean = 0, volume = 0;
+};
+
+Measured measure(const CompactMesh& m) {
+  Measured q;
+  for (const Tet& t : m.tets) {
+    const double s = tet_stretch(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]);
+    q.min = std::min(q.min, s);
+    q.mean += s;
+    q.volume += tet_signed_volume(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]);
+  }
+  q.mean /= static_cast<double>(m.tets.size());
+  return q;
+}
+
+TEST(UniqueEdges, MatchesTheEdgesOfTheTets) {
+  const testing::TestMesh m = testing::make_cube_mesh(4, 0.1, 3);
+  std::set<Edge> expected;
+  for (const Tet& t : m.tets)
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) expected.insert({std::min(t[i], t[j]), std::max(t[i], t[j])});
+  const auto edges = unique_edges(m.tets, static_cast<index_t>(m.points.size()));
+  EXPECT_EQ(std::vector<Edge>(expected.begin(), expected.end()), edges);
+  TetMesh mesh = build(m);
+  EXPECT_EQ(unique_edges(mesh), edges);
+  // With a mask: only edges between flagged vertices.
+  std::vector<char> mask(m.points.size(), 0);
+  for (std::size_t v = 0; v < mask.size(); v += 2) mask[v] = 1;
+  std::vector<Edge> flagged;
+  for (const Edge& e : edges)
+    if (mask[e.first] && mask[e.second]) flagged.push_back(e);
+  EXPECT_EQ(unique_edges(mesh, &mask), flagged);
+}
+
+// Issue 5 (a) on a planar part: inner vertices jittered by 40%, the target
+// density the unjittered mesh's. The loop of Fig. 2.34 gives min stretch
+// >= 0.3, the faces stay on their planes, the volume is exact.
+TEST(PhasedOdt, JitteredCubeReachesTheQualityGoal) {
+  const testing::TestMesh m = testing::make_cube_mesh(8, 0.1, 5);
+  TetMesh mesh = build(m);
+  const Measured undeformed = measure(mesh.compact());
+  DensityGrid grid;
+  ASSERT_TRUE(grid.build(m.points, m.tets, vertex_density(m.points, m.tets), 0));
+  jitter_inner(mesh, 9);
+  const Measured jittered = measure(mesh.compact());
+  ASSERT_LT(jittered.min, 0.1);
+  PhasedOdtTarget target;
+  target.density = &grid;
+  const PhasedOdtStats stats = phased_odt(mesh, cube_geometry(), target);
+  ASSERT_TRUE(mesh.check_consistency().ok) << mesh.check_consistency().message;
+  const CompactMesh out = mesh.compact();
+  const ValidityReport report = check_validity(out.points, out.tets);
+  EXPECT_TRUE(report.ok()) << report.summary();
+  const Measured after = measure(out);
+  EXPECT_GE(after.min, 0.3);
+  EXPECT_GE(after.mean, undeformed.mean);
+  EXPECT_NEAR(after.volume, 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(stats.min_stretch_after, after.min);
+  EXPECT_TRUE(stats.remaining_inverted.empty());
+  EXPECT_LE(stats.density_error_after.mean, stats.density_error_before.mean);
+  // Boundary points on their planes.
+  for (std::size_t v = 0; v < out.points.size(); ++v) {
+    if (out.vertex_classes[v] == VertexClass::Inner) continue;
+    double d = 1;
+    for (int a = 0; a < 3; ++a) d = std::min({d, std::abs(out.points[v][a]), std::abs(out.points[v][a] - 1)});
+    EXPECT_LE(d, 1e-15) << "boundary point " << v;
+  }
+}
+
+// The region restriction: the tets of the lower half (input tets with a
+// vertex below z = 0.5 unflagged) keep their points.
+TEST(PhasedOdt, TetMaskKeepsTheRestUnchanged) {
+  const testing::TestMesh m = testing::make_cube_mesh(6, 0.1, 7);
+  TetMesh mesh = build(m);
+  jitter_inner(mesh, 4);
+  const std::vector<Vec3> before = mesh.points();
+  PhasedOdtOptions options;
+  options.tet_mask.assign(m.tets.size(), 1);
+  std::vector<char> fixed(before.size(), 0);
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    for (const index_t v : m.tets[t])
+      if (before[v].z() < 0.5) {
+        options.tet_mask[t] = 0;
+        for (const index_t w : m.tets[t]) fixed[w] = 1;
+      }
+  phased_odt(mesh, cube_geometry(), PhasedOdtTarget(), options);
+  const ValidityReport report = check_validity(mesh.compact().points, mesh.compact().tets);
+  EXPECT_TRUE(report.ok()) << report.summary();
+  std::size_t changed = 0, improved = 0;
+  for (std::size_t v = 0; v < before.size(); ++v) {
+    const bool moved = !mesh.vertex_alive(static_cast<index_t>(v)) || mesh.point(static_cast<index_t>(v)) != before[v];
+    (fixed[v] ? changed : improved) += moved;
+  }
+  EXPECT_EQ(changed, 0u);
+  EXPECT_GT(improved, 50u);  // the upper half was worked on
+}
+
+TEST(PhasedOdt, AbortLeavesAValidMesh) {
+  const testing::TestMesh m = testing::make_cube_mesh(6, 0.1, 7);
+  TetMesh mesh = build(m);
+  jitter_inner(mesh, 4);
+  PhasedOdtOptions options;
+  int calls = 0;
+  options.progress = [&calls](double, const char*) { return ++calls < 3; };
+  const PhasedOdtStats stats = phased_odt(mesh, cube_geometry(), PhasedOdtTarget(), options);
+  EXPECT_TRUE(stats.aborted);
+  EXPECT_EQ(calls, 3);
+  ASSERT_TRUE(mesh.check_consistency().ok);
+  const CompactMesh out = mesh.compact();
+  EXPECT_TRUE(check_validity(out.points, out.tets).ok());
+}
+
+// Accuracy control (2.6.4) on the annulus: asked for half the chord error
+// of each cylinder, it splits cylinder edges and projects the new points on
+// the cylinders until every edge midpoint is within it; the circles' vertex
+// lists, traced on the new mesh, are closed chains of edges on the circles.
+TEST(ShapeAccuracy, SplitsUntilTheCylindersAreWithinTheError) {
+  const Annulus a = make_annulus();
+  const GridMesh gm = make_grid_mesh(a.grid);
+  TetMesh mesh = build(gm.mesh);
+  const std::vector<double> error = region_geometric_error(mesh, a.geometry);
+  ASSERT_EQ(error.size(), 4u);
+  EXPECT_GT(error[0], 0);
+  EXPECT_GT(error[1], 0);
+  EXPECT_TRUE(std::isnan(error[2]) && std::isnan(error[3]));  // planes
+  std::vector<double> acceptable = {0.5 * error[0], 0.5 * error[1], std::nan(""), std::nan("")};
+  AccuracyControlOptions options;
+  options.min_stretch = 0;  // only validity: the goal here is the error
+  const AccuracyControlStats stats = control_shape_accuracy(mesh, a.geometry, acceptable, options);
+  EXPECT_GT(stats.splits, 0u);
+  const std::vector<double> after = region_geometric_error(mesh, a.geometry);
+  EXPECT_LE(after[0], acceptable[0]);
+  EXPECT_LE(after[1], acceptable[1]);
+  const CompactMesh out = mesh.compact();
+  EXPECT_TRUE(check_validity(out.points, out.tets).ok());
+  for (std::size_t v = 0; v < out.points.size(); ++v) {
+    const double r = std::hypot(out.points[v].x(), out.points[v].y());
+    if (out.vertex_classes[v] == VertexClass::Inner) continue;
+    if (std::abs(r - a.r_in) < 0.1) {
+      EXPECT_NEAR(r, a.r_in, 1e-12);
+    } else if (std::abs(r - a.r_out) < 0.1) {
+      EXPECT_NEAR(r, a.r_out, 1e-12);
+    }
+  }
+
+  // The four circles' old vertex lists, in angular order.
+  std::vector<std::vector<index_t>> old_curves(4);
+  for (std::size_t v = 0; v < gm.ijk.size(); ++v) {
+    const auto& c = gm.ijk[v];
+    const bool in = c[0] == 0, outer = c[0] == a.grid.n[0], bottom = c[2] == 0, top = c[2] == a.grid.n[2];
+    if ((in || outer) && (bottom || top)) old_curves[2 * (outer ? 1 : 0) + (top ? 1 : 0)].push_back(static_cast<index_t>(v));
+  }
+  for (auto& c : old_curves)
+    std::sort(c.begin(), c.end(), [&](index_t x, index_t y) { return gm.ijk[x][1] < gm.ijk[y][1]; });
+  const auto traced = trace_boundary_curves(out, old_curves, a.geometry.curve_regions);
+  ASSERT_EQ(traced.size(), 4u);
+  std::set<Edge> edges;
+  for (const Edge& e : unique_edges(out.tets, static_cast<index_t>(out.points.size()))) edges.insert(e);
+  for (int c = 0; c < 4; ++c) {
+    const auto& list = traced[c];
+    ASSERT_GE(list.size(), old_curves[c].size()) << "curve " << c;
+    const double r = c < 2 ? a.r_in : a.r_out, z = (c % 2) * a.height;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const index_t u = list[i], w = list[(i + 1) % list.size()];  // closed
+      EXPECT_TRUE(edges.count({std::min(u, w), std::max(u, w)})) << "curve " << c << " at " << i;
+      EXPECT_NEAR(std::hypot(out.points[u].x(), out.points[u].y()), r, 1e-12);
+      EXPECT_NEAR(out.points[u].z(), z, 1e-12);
+    }
+    // Oriented like the old list: the second survivor follows the first.
+    EXPECT_EQ(list[0], out.vertex_map[old_curves[c][0]]);
+    const auto second = std::find(list.begin(), list.end(), out.vertex_map[old_curves[c][1]]);
+    EXPECT_LT(second - list.begin(), static_cast<long>(list.size() / 2));
+  }
+}
+
+}  // namespace
+}  // namespace femorph
