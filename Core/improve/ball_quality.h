@@ -3,7 +3,9 @@
 #pragma once
 
 #include "common/types.h"
+#include "mesh/tet_mesh.h"
 
+#include <cstddef>
 #include <vector>
 
 namespace femorph {
@@ -22,5 +24,27 @@ double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, i
 /// level (seen on a real part, fandisk, with jittered inner vertices).
 bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,
                         double old_min, double floor);
+
+/// The step-size rule of the ODT smoothers (Fig. 2.33; Eqs. 2.31, 2.34):
+/// alpha = 1, halved up to `max_halvings` times. candidate(alpha, &p) gives
+/// v's position for the step alpha (false: none for this alpha); the first
+/// one that passes the quality guard (when `quality_guard`, with
+/// move_keeps_quality(.., floor)) and keeps every tet of the ball positive
+/// (TetMesh::move_vertex, exact) is taken. `ball` is v's ball. Returns the
+/// accepted alpha, 0 when v stayed; *halvings counts the halvings tried.
+template <class Candidate>
+double move_with_step_halving(TetMesh& mesh, const std::vector<index_t>& ball, index_t v, int max_halvings,
+                              bool quality_guard, double floor, Candidate&& candidate, std::size_t* halvings) {
+  const double old_min = quality_guard ? ball_min_stretch(mesh, ball, v, mesh.point(v)) : 0;
+  double alpha = 1;
+  for (int h = 0; h <= max_halvings; ++h, alpha *= 0.5) {
+    if (h > 0 && halvings) ++*halvings;
+    Vec3 p;
+    if (!candidate(alpha, &p)) continue;
+    if (quality_guard && !move_keeps_quality(mesh, ball, v, p, old_min, floor)) continue;
+    if (mesh.move_vertex(v, p) == OpStatus::Ok) return alpha;
+  }
+  return 0;
+}
 
 }  // namespace femorph

@@ -86,21 +86,17 @@ OdtSmoothReport odt_smooth_curves(TetMesh& mesh, const BoundaryGeometry& geometr
         if (!(step.norm() / len > options.tolerance * 1e-3)) continue;
       }
 
-      const double old_min = options.quality_guard ? ball_min_stretch(mesh, ball, v, x) : 0;
-      double alpha = 1;
-      bool accepted = false;
-      Vec3 p;
-      for (int h = 0; h <= options.max_halvings; ++h, alpha *= 0.5) {
-        if (h > 0) ++report.halvings;
-        const Vec3 q = circle ? centre + c.curve->radius * (std::cos(alpha * theta) * e1 + std::sin(alpha * theta) * e2)
-                              : Vec3(x + alpha * step);
-        if (!project_to_constraint(c, q, &p)) continue;
-        if (options.quality_guard && !move_keeps_quality(mesh, ball, v, p, old_min, options.quality_floor)) continue;
-        if (mesh.move_vertex(v, p) == OpStatus::Ok) {
-          accepted = true;
-          break;
-        }
-      }
+      const bool accepted =
+          move_with_step_halving(
+              mesh, ball, v, options.max_halvings, options.quality_guard, options.quality_floor,
+              [&](double alpha, Vec3* p) {
+                const Vec3 q = circle ? centre + c.curve->radius *
+                                                     (std::cos(alpha * theta) * e1 + std::sin(alpha * theta) * e2)
+                                      : Vec3(x + alpha * step);
+                return project_to_constraint(c, q, p);
+              },
+              &report.halvings) > 0;
+      const Vec3& p = mesh.point(v);
       if (accepted) {
         ++report.moved;
         max_step = std::max(max_step, (p - x).norm() / len);

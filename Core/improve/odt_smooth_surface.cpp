@@ -272,25 +272,20 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
 
       // Step 3: map back, project onto the surface; alpha halved while the
       // move inverts a tet, folds a ring triangle or lowers the ball's quality.
-      const double old_min = options.quality_guard ? ball_min_stretch(mesh, ball, v, x) : 0;
-      double alpha = 1;
-      bool accepted = false;
-      Vec3 p;
-      for (int h = 0; h <= options.max_halvings; ++h, alpha *= 0.5) {
-        if (h > 0) ++report.halvings;
-        const Vec2 q2 = x2 + alpha * step;
-        if (!project_to_constraint(c, chart.unmap(q2), &p)) continue;
-        bool folds = false;
-        for (std::size_t k = 0; k < ring.size() && !folds; ++k)
-          folds = old_sign[k] != 0 &&
-                  sign(cross2(link2[ring_local[k][0]] - q2, link2[ring_local[k][1]] - q2)) != old_sign[k];
-        if (folds) continue;
-        if (options.quality_guard && !move_keeps_quality(mesh, ball, v, p, old_min, options.quality_floor)) continue;
-        if (mesh.move_vertex(v, p) == OpStatus::Ok) {
-          accepted = true;
-          break;
-        }
-      }
+      const bool accepted =
+          move_with_step_halving(
+              mesh, ball, v, options.max_halvings, options.quality_guard, options.quality_floor,
+              [&](double alpha, Vec3* p) {
+                const Vec2 q2 = x2 + alpha * step;
+                if (!project_to_constraint(c, chart.unmap(q2), p)) return false;
+                for (std::size_t k = 0; k < ring.size(); ++k)
+                  if (old_sign[k] != 0 &&
+                      sign(cross2(link2[ring_local[k][0]] - q2, link2[ring_local[k][1]] - q2)) != old_sign[k])
+                    return false;  // a ring triangle folds over
+                return true;
+              },
+              &report.halvings) > 0;
+      const Vec3& p = mesh.point(v);
       if (accepted) {
         ++report.moved;
         max_step = std::max(max_step, (p - x).norm() / len);

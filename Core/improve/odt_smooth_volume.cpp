@@ -74,18 +74,14 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
 
       // Fig. 2.33 step-size rule: alpha = 1, halved while the move inverts a
       // tet (or, with the guard, lowers the ball's minimum stretch).
-      const double old_min = options.quality_guard ? ball_min_stretch(mesh, ball, v, x) : 0;
-      double alpha = 1;
-      bool accepted = false;
-      for (int h = 0; h <= options.max_halvings; ++h, alpha *= 0.5) {
-        if (h > 0) ++report.halvings;
-        const Vec3 p = x + alpha * step;
-        if (options.quality_guard && !move_keeps_quality(mesh, ball, v, p, old_min, options.quality_floor)) continue;
-        if (mesh.move_vertex(v, p) == OpStatus::Ok) {
-          accepted = true;
-          break;
-        }
-      }
+      const double alpha = move_with_step_halving(
+          mesh, ball, v, options.max_halvings, options.quality_guard, options.quality_floor,
+          [&](double a, Vec3* p) {
+            *p = x + a * step;
+            return true;
+          },
+          &report.halvings);
+      const bool accepted = alpha > 0;
       if (accepted) {
         ++report.moved;
         max_step = std::max(max_step, alpha * relative);

@@ -10,6 +10,8 @@
 #include "test_meshes.h"
 #include "test_surfaces.h"
 
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cmath>
 #include <functional>
@@ -21,6 +23,16 @@ namespace improve_meshes {
 
 using test_surfaces::cylinder;
 using test_surfaces::plane;
+
+/// The TetMesh of a test mesh, with its face regions.
+inline TetMesh build(const TestMesh& m) {
+  TetMesh mesh;
+  BuildOptions options;
+  options.face_regions = m.face_regions;
+  const Status status = mesh.build(m.points, m.tets, options);
+  EXPECT_TRUE(status.ok) << status.message;
+  return mesh;
+}
 
 inline CurvePrimitive line_curve(const Vec3& start, const Vec3& end) {
   CurvePrimitive c;

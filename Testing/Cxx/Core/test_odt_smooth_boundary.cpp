@@ -34,15 +34,6 @@ using test_surfaces::torus;
 
 constexpr double kDeg = 180 / kPi;
 
-TetMesh build(const testing::TestMesh& m) {
-  TetMesh mesh;
-  BuildOptions options;
-  options.face_regions = m.face_regions;
-  const Status status = mesh.build(m.points, m.tets, options);
-  EXPECT_TRUE(status.ok) << status.message;
-  return mesh;
-}
-
 /// Moves every boundary vertex (id order) within its surface or curve: by up
 /// to `amplitude` cells along the grid axes on which it is not on a boundary
 /// plane. Moves that would invert are refused by TetMesh. Returns the count.

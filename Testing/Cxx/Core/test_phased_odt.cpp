@@ -27,15 +27,6 @@ namespace {
 
 using namespace testing::improve_meshes;
 
-TetMesh build(const testing::TestMesh& m) {
-  TetMesh mesh;
-  BuildOptions options;
-  options.face_regions = m.face_regions;
-  const Status status = mesh.build(m.points, m.tets, options);
-  EXPECT_TRUE(status.ok) << status.message;
-  return mesh;
-}
-
 BoundaryGeometry cube_geometry() {
   BoundaryGeometry g;
   for (int axis = 0; axis < 3; ++axis)
