@@ -13,6 +13,7 @@
 #include "improve/remove_degenerate_elements.h"
 #include "improve/remove_inverted_elements.h"
 #include "mesh/tet_mesh.h"
+#include "quality/tet_quality.h"
 
 #include <algorithm>
 #include <chrono>
@@ -67,6 +68,71 @@ std::vector<char> phase_vertices(const TetMesh& mesh, int phase, const std::vect
               (phase == 0 && (c == VertexClass::Curve || c == VertexClass::Corner));
   }
   return mask;
+}
+
+/// Beyond the thesis, once the density has settled: the accuracy control
+/// once more (the volume phase's collapses reach the boundary), curve and
+/// surface smoothing again for the vertices of the tets still below the
+/// quality floor, a few more rounds of volume smoothing and flips (thesis:
+/// two or three ODT sweeps per step), and the tets ODT leaves next to the
+/// boundary: interior edges of tets locked on the boundary split, inner
+/// vertices of the worst tets placed for their ball's best minimum stretch.
+void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const PhasedOdtTarget& target,
+                        const PhasedOdtOptions& options, PhasedOdtStats& stats) {
+  std::vector<std::uint8_t> movable = movable_vertices(mesh, options);
+  if (options.accuracy_control && !target.acceptable_error.empty()) {
+    // Here the goal wins over the floor: the steps below repair the tets.
+    AccuracyControlOptions aco;
+    aco.vertex_mask = movable;
+    aco.min_stretch = options.degenerate_threshold;
+    const AccuracyControlStats as = control_shape_accuracy(mesh, geometry, target.acceptable_error, aco);
+    stats.splits += as.splits;
+    stats.accuracy_splits += as.splits;
+    movable = movable_vertices(mesh, options);
+  }
+  // The vertices of the tets below the floor.
+  std::vector<std::uint8_t> near_bad(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const Tet& T = mesh.tet(t);
+    if (tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) >= options.quality_floor)
+      continue;
+    for (const index_t v : T) near_bad[v] = movable.empty() || movable[v];
+  }
+  BoundarySmoothOptions bso;
+  bso.iterations = options.odt_iterations;
+  bso.vertex_mask = near_bad;
+  bso.quality_floor = options.quality_floor;
+  if (options.smooth_curves) stats.moved_vertices += odt_smooth_curves(mesh, geometry, bso).moved;
+  if (options.smooth_surfaces) stats.moved_vertices += odt_smooth_surface(mesh, geometry, bso).moved;
+
+  ImproveVolumeOptions ivo;
+  ivo.rounds = 2;
+  ivo.smooth.iterations = options.odt_iterations;
+  ivo.smooth.vertex_mask = movable;
+  if (options.flips) {
+    const ImproveVolumeStats vs = improve_volume(mesh, ivo);
+    stats.moved_vertices += vs.moved;
+    stats.flips_23 += vs.flips_23;
+    stats.flips_32 += vs.flips_32;
+    stats.flips_44 += vs.flips_44;
+  } else {
+    for (int round = 0; round < ivo.rounds; ++round) stats.moved_vertices += odt_smooth_volume(mesh, ivo.smooth).moved;
+  }
+  LockedTetOptions lo;
+  lo.vertex_mask = movable;
+  stats.splits += split_locked_tets(mesh, lo).splits;
+  WorstVertexOptions wo;
+  wo.vertex_mask = movable_vertices(mesh, options);
+  stats.moved_vertices += optimize_worst_vertices(mesh, wo).improved;
+  if (options.flips) {
+    FlipImproveOptions fo;
+    fo.vertex_mask = wo.vertex_mask;
+    const FlipImproveReport fr = improve_tets_by_flips(mesh, fo);
+    stats.flips_23 += fr.flips_23;
+    stats.flips_32 += fr.flips_32;
+    stats.flips_44 += fr.flips_44;
+  }
 }
 
 }  // namespace
@@ -195,43 +261,12 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
       // collapse can undo each other) or touch under 1% of the tets (ODT
       // smoothing keeps nudging edge lengths across the thresholds).
       if (operations == 0 || operations >= last_operations ||
-          static_cast<double>(operations) < 0.01 * static_cast<double>(mesh.live_tets()))
+          static_cast<double>(operations) < 0.03 * static_cast<double>(mesh.live_tets()))
         break;
       last_operations = operations;
     }
-    // The tetrahedra get a few more rounds of smoothing and flips once the
-    // density has settled (thesis: two or three ODT sweeps per step).
-    if (phase == 2 && !stats.aborted && report(0.95, kPhaseNames[2])) {
-      ImproveVolumeOptions ivo;
-      ivo.rounds = 3;
-      ivo.smooth.iterations = options.odt_iterations;
-      ivo.smooth.vertex_mask = movable_vertices(mesh, options);
-      if (options.flips) {
-        const ImproveVolumeStats vs = improve_volume(mesh, ivo);
-        stats.moved_vertices += vs.moved;
-        stats.flips_23 += vs.flips_23;
-        stats.flips_32 += vs.flips_32;
-        stats.flips_44 += vs.flips_44;
-      } else {
-        for (int round = 0; round < ivo.rounds; ++round) stats.moved_vertices += odt_smooth_volume(mesh, ivo.smooth).moved;
-      }
-      // The tets ODT leaves next to the boundary: their inner vertex moved
-      // to maximise the ball's minimum stretch, then flips again.
-      LockedTetOptions lo;
-      lo.vertex_mask = ivo.smooth.vertex_mask;
-      stats.splits += split_locked_tets(mesh, lo).splits;
-      WorstVertexOptions wo;
-      wo.vertex_mask = movable_vertices(mesh, options);
-      stats.moved_vertices += optimize_worst_vertices(mesh, wo).improved;
-      if (options.flips) {
-        FlipImproveOptions fo;
-        fo.vertex_mask = wo.vertex_mask;
-        const FlipImproveReport fr = improve_tets_by_flips(mesh, fo);
-        stats.flips_23 += fr.flips_23;
-        stats.flips_32 += fr.flips_32;
-        stats.flips_44 += fr.flips_44;
-      }
-    }
+    if (phase == 2 && !stats.aborted && report(0.95, kPhaseNames[2]))
+      finish_improvement(mesh, geometry, target, options, stats);
     stats.phase_seconds[phase] = seconds_since(phase_start);
     if (stats.aborted) break;
   }
