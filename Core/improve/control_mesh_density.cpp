@@ -49,6 +49,19 @@ double scaled_length(const TetMesh& mesh, const DensityGrid& grid, DensityLookup
   return *length * grid.density_at(0.5 * (p + q), lookup);
 }
 
+/// scaled_length of every edge, in parallel (read only: deterministic).
+std::vector<double> scaled_lengths(const TetMesh& mesh, const DensityGrid& grid, DensityLookup lookup,
+                                   const std::vector<Edge>& edges) {
+  std::vector<double> out(edges.size());
+  const long n = static_cast<long>(edges.size());
+#pragma omp parallel for schedule(static) if (n >= kParallelMinItems)
+  for (long i = 0; i < n; ++i) {
+    double length;
+    out[static_cast<std::size_t>(i)] = scaled_length(mesh, grid, lookup, edges[i].first, edges[i].second, &length);
+  }
+  return out;
+}
+
 /// Distinct live edges (a < b), sorted.
 std::vector<Edge> live_edges(const TetMesh& mesh, const std::vector<char>& mask) {
   return unique_edges(mesh, &mask);
@@ -93,11 +106,10 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
   const double beta1 = options.split_threshold;
   // Step 1: edges with L(e) >= beta1 / rho_GC(c_e) into a max-heap by length.
   MaxHeap heap;
-  for (const auto& e : live_edges(mesh, mask)) {
-    double length;
-    if (scaled_length(mesh, grid, options.lookup, e.first, e.second, &length) >= beta1)
-      heap.push({length, e.first, e.second});
-  }
+  const std::vector<Edge> edges = live_edges(mesh, mask);
+  const std::vector<double> scaled = scaled_lengths(mesh, grid, options.lookup, edges);
+  for (std::size_t i = 0; i < edges.size(); ++i)
+    if (scaled[i] >= beta1) heap.push({(mesh.point(edges[i].second) - mesh.point(edges[i].first)).norm(), edges[i].first, edges[i].second});
   std::size_t splits = 0;
   std::vector<index_t> ring, ball;
   // Steps 2-3: split the longest until the heap is empty.
@@ -159,10 +171,11 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
   };
   // Step 4: edges with L(e) <= beta2 / rho_GC(c_e) into a min-heap.
   MinHeap heap;
-  for (const auto& e : live_edges(mesh, mask)) {
-    double length;
-    if (qualifies(e.first, e.second, &length)) heap.push({length, e.first, e.second});
-  }
+  const std::vector<Edge> edges = live_edges(mesh, mask);
+  const std::vector<double> scaled = scaled_lengths(mesh, grid, options.lookup, edges);
+  for (std::size_t i = 0; i < edges.size(); ++i)
+    if (scaled[i] > 0 && scaled[i] <= beta2)
+      heap.push({(mesh.point(edges[i].second) - mesh.point(edges[i].first)).norm(), edges[i].first, edges[i].second});
   std::size_t collapses = 0;
   std::vector<index_t> ball_keep, ball_remove, neighbours, neighbours2;
   while (!heap.empty()) {

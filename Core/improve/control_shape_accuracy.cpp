@@ -69,6 +69,29 @@ std::vector<double> region_geometric_error(const TetMesh& mesh, const BoundaryGe
   return error;
 }
 
+bool chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry, const std::vector<double>& acceptable,
+                         index_t v, const Vec3& p) {
+  thread_local std::vector<index_t> ball;
+  mesh.vertex_ball(v, ball);
+  const Vec3& x = mesh.point(v);
+  for (const index_t t : ball) {
+    const Tet& T = mesh.tet(t);
+    for (int f = 0; f < 4; ++f) {
+      if (T[f] == v || !mesh.is_boundary_face(t, f)) continue;
+      const index_t r = mesh.face_region(t, f);
+      const SurfacePrimitive* s = geometry.region(r);
+      if (!curved(s) || r < 0 || static_cast<std::size_t>(r) >= acceptable.size() || !(acceptable[r] > 0)) continue;
+      for (int k = 0; k < 4; ++k) {
+        const index_t w = T[k];
+        if (k == f || w == v) continue;
+        const double after = distance(*s, 0.5 * (p + mesh.point(w)));
+        if (after > acceptable[r] && after > distance(*s, 0.5 * (x + mesh.point(w)))) return false;
+      }
+    }
+  }
+  return true;
+}
+
 AccuracyControlStats control_shape_accuracy(TetMesh& mesh, const BoundaryGeometry& geometry,
                                             const std::vector<double>& acceptable,
                                             const AccuracyControlOptions& options) {

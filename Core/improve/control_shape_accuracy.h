@@ -23,6 +23,15 @@ class TetMesh;
 /// regions count for both.
 std::vector<double> region_geometric_error(const TetMesh& mesh, const BoundaryGeometry& geometry);
 
+/// Whether moving boundary vertex v to p keeps the chord error (2.6.4) of
+/// its boundary edges on curved regions within `acceptable` (per region; NaN
+/// or <= 0: not checked), or at least does not raise an edge that is
+/// already beyond it. For smoothing steps: ODT on a curved surface makes
+/// chords longer, and a split that would restore the accuracy can cost
+/// quality.
+bool chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry, const std::vector<double>& acceptable,
+                         index_t v, const Vec3& p);
+
 struct AccuracyControlOptions {
   /// Restriction to a region: only edges whose two vertices are flagged
   /// (vertices a split creates are flagged). Empty: every edge.

@@ -1,6 +1,7 @@
 // Phase (1) of Phased ODT smoothing (thesis 2.6.5.2): Eq. 2.34 over the two
 // curve edges of each curve vertex, CPT smoothing on lines, central angles on
 // circles (Fig. 2.42).
+#include "improve/control_shape_accuracy.h"
 #include "improve/ball_quality.h"
 #include "improve/odt_smooth_curves.h"
 
@@ -93,7 +94,9 @@ OdtSmoothReport odt_smooth_curves(TetMesh& mesh, const BoundaryGeometry& geometr
                 const Vec3 q = circle ? centre + c.curve->radius *
                                                      (std::cos(alpha * theta) * e1 + std::sin(alpha * theta) * e2)
                                       : Vec3(x + alpha * step);
-                return project_to_constraint(c, q, p);
+                return project_to_constraint(c, q, p) &&
+                       (!options.acceptable_error ||
+                        chords_within_error(mesh, geometry, *options.acceptable_error, v, *p));
               },
               &report.halvings) > 0;
       const Vec3& p = mesh.point(v);

@@ -1,6 +1,7 @@
 // Phase (2) of Phased ODT smoothing (thesis 2.6.5.3): Eq. 2.34 over the
 // surface triangles around each surface vertex, in the 2D parameter plane of
 // its fitted region (Fig. 2.43, 2.44 steps 1-3).
+#include "improve/control_shape_accuracy.h"
 #include "improve/ball_quality.h"
 #include "improve/odt_smooth_surface.h"
 
@@ -282,7 +283,8 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
                   if (old_sign[k] != 0 &&
                       sign(cross2(link2[ring_local[k][0]] - q2, link2[ring_local[k][1]] - q2)) != old_sign[k])
                     return false;  // a ring triangle folds over
-                return true;
+                return !options.acceptable_error ||
+                       chords_within_error(mesh, geometry, *options.acceptable_error, v, *p);
               },
               &report.halvings) > 0;
       const Vec3& p = mesh.point(v);

@@ -30,6 +30,10 @@ struct BoundarySmoothOptions {
   /// With the guard, no tet of the ball at or above this stretch may fall
   /// below it (move_keeps_quality()).
   double quality_floor = 0.3;
+  /// Acceptable geometric error per region (2.6.4, control_shape_accuracy.h);
+  /// when given, a move may not take a boundary edge of a curved region
+  /// beyond it (chords_within_error()). Null: not checked.
+  const std::vector<double>* acceptable_error = nullptr;
 };
 
 /// Moves each vertex whose constraint is VertexConstraint::Surface (one

@@ -70,26 +70,42 @@ std::vector<char> phase_vertices(const TetMesh& mesh, int phase, const std::vect
   return mask;
 }
 
-/// Beyond the thesis, once the density has settled: the accuracy control
-/// once more (the volume phase's collapses reach the boundary), curve and
-/// surface smoothing again for the vertices of the tets still below the
-/// quality floor, a few more rounds of volume smoothing and flips (thesis:
-/// two or three ODT sweeps per step), and the tets ODT leaves next to the
+/// Vertices of the tets with stretch below `threshold`, among the movable
+/// ones (empty `movable`: all).
+std::vector<std::uint8_t> vertices_of_poor_tets(const TetMesh& mesh, const std::vector<std::uint8_t>& movable,
+                                                double threshold) {
+  std::vector<std::uint8_t> mask(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const Tet& T = mesh.tet(t);
+    if (tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) >= threshold) continue;
+    for (const index_t v : T)
+      mask[v] = movable.empty() || (static_cast<std::size_t>(v) < movable.size() && movable[v]);
+  }
+  return mask;
+}
+
+/// Beyond the thesis, once the density has settled: curve and surface
+/// smoothing again for the vertices of the tets still below the quality
+/// floor, the accuracy control once more (the volume phase's collapses and
+/// that smoothing reach the boundary), a round of volume smoothing over all
+/// inner vertices (odt_iterations sweeps) and flips, and the tets ODT leaves next to the
 /// boundary: interior edges of tets locked on the boundary split, inner
 /// vertices of the worst tets placed for their ball's best minimum stretch.
 void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const PhasedOdtTarget& target,
                         const PhasedOdtOptions& options, PhasedOdtStats& stats) {
-  std::vector<std::uint8_t> movable = movable_vertices(mesh, options);
-  if (options.accuracy_control && !target.acceptable_error.empty()) {
-    // Here the goal wins over the floor: the steps below repair the tets.
+  // Here the goal wins over the floor: the steps after it repair the tets.
+  const auto accuracy = [&]() {
+    if (!options.accuracy_control || target.acceptable_error.empty()) return;
     AccuracyControlOptions aco;
-    aco.vertex_mask = movable;
-    aco.min_stretch = options.degenerate_threshold;
+    aco.vertex_mask = movable_vertices(mesh, options);
+    aco.min_stretch = options.quality_floor;
     const AccuracyControlStats as = control_shape_accuracy(mesh, geometry, target.acceptable_error, aco);
     stats.splits += as.splits;
     stats.accuracy_splits += as.splits;
-    movable = movable_vertices(mesh, options);
-  }
+  };
+  accuracy();
+  std::vector<std::uint8_t> movable = movable_vertices(mesh, options);
   // The vertices of the tets below the floor.
   std::vector<std::uint8_t> near_bad(static_cast<std::size_t>(mesh.vertex_slots()), 0);
   for (index_t t = 0; t < mesh.tet_slots(); ++t) {
@@ -103,9 +119,12 @@ void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const P
   bso.iterations = options.odt_iterations;
   bso.vertex_mask = near_bad;
   bso.quality_floor = options.quality_floor;
+  if (options.accuracy_control && !target.acceptable_error.empty()) bso.acceptable_error = &target.acceptable_error;
   if (options.smooth_curves) stats.moved_vertices += odt_smooth_curves(mesh, geometry, bso).moved;
   if (options.smooth_surfaces) stats.moved_vertices += odt_smooth_surface(mesh, geometry, bso).moved;
 
+  accuracy();  // what is left beyond the error after the smoothing above
+  movable = movable_vertices(mesh, options);
   ImproveVolumeOptions ivo;
   ivo.rounds = 2;
   ivo.smooth.iterations = options.odt_iterations;
@@ -233,6 +252,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
         bso.iterations = options.odt_iterations;
         bso.vertex_mask = smooth_mask;
         bso.quality_floor = options.quality_floor;
+        if (options.accuracy_control && !target.acceptable_error.empty()) bso.acceptable_error = &target.acceptable_error;
         const OdtSmoothReport r =
             phase == 0 ? odt_smooth_curves(mesh, geometry, bso) : odt_smooth_surface(mesh, geometry, bso);
         stats.moved_vertices += r.moved;
@@ -244,8 +264,11 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
         }
       } else {
         OdtSmoothOptions oso;
-        oso.iterations = options.odt_iterations;
-        oso.vertex_mask = smooth_mask;
+        oso.iterations = 1;  // the finishing step sweeps odt_iterations times
+        // Beyond the thesis: inside the loop only the vertices of the tets
+        // below 0.5 (and their neighbours through those tets) are smoothed;
+        // the finishing step sweeps all of them.
+        oso.vertex_mask = vertices_of_poor_tets(mesh, smooth_mask, 0.5);
         stats.moved_vertices += odt_smooth_volume(mesh, oso).moved;
         if (options.flips) {
           FlipImproveOptions fo;
@@ -256,12 +279,12 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
           stats.flips_44 += fr.flips_44;
         }
       }
-      // Fig. 2.34: the loop ends when no density or accuracy operation is left.
-      // Beyond the thesis: also when they stop decreasing (a split and a
-      // collapse can undo each other) or touch under 1% of the tets (ODT
-      // smoothing keeps nudging edge lengths across the thresholds).
+      // Fig. 2.34: the loop ends when no density or accuracy operation is
+      // left (and, beyond the thesis, when they stall or are few:
+      // min_operation_fraction).
       if (operations == 0 || operations >= last_operations ||
-          static_cast<double>(operations) < 0.03 * static_cast<double>(mesh.live_tets()))
+          static_cast<double>(operations) <
+              options.min_operation_fraction * static_cast<double>(mesh.live_tets()))
         break;
       last_operations = operations;
     }
