@@ -70,6 +70,17 @@ std::vector<char> phase_vertices(const TetMesh& mesh, int phase, const std::vect
   return mask;
 }
 
+/// Live tets with stretch below `threshold`.
+std::size_t count_below(const TetMesh& mesh, double threshold) {
+  std::size_t n = 0;
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const Tet& T = mesh.tet(t);
+    n += tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) < threshold;
+  }
+  return n;
+}
+
 /// Vertices of the tets with stretch below `threshold`, among the movable
 /// ones (empty `movable`: all).
 std::vector<std::uint8_t> vertices_of_poor_tets(const TetMesh& mesh, const std::vector<std::uint8_t>& movable,
@@ -94,7 +105,7 @@ std::vector<std::uint8_t> vertices_of_poor_tets(const TetMesh& mesh, const std::
 /// vertices of the worst tets placed for their ball's best minimum stretch.
 void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const PhasedOdtTarget& target,
                         const PhasedOdtOptions& options, PhasedOdtStats& stats) {
-  // Here the goal wins over the floor: the steps after it repair the tets.
+  // The accuracy control (2.6.4) once more, under the quality floor.
   const auto accuracy = [&]() {
     if (!options.accuracy_control || target.acceptable_error.empty()) return;
     AccuracyControlOptions aco;
@@ -106,22 +117,17 @@ void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const P
   };
   accuracy();
   std::vector<std::uint8_t> movable = movable_vertices(mesh, options);
-  // The vertices of the tets below the floor.
-  std::vector<std::uint8_t> near_bad(static_cast<std::size_t>(mesh.vertex_slots()), 0);
-  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-    if (!mesh.tet_alive(t)) continue;
-    const Tet& T = mesh.tet(t);
-    if (tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) >= options.quality_floor)
-      continue;
-    for (const index_t v : T) near_bad[v] = movable.empty() || movable[v];
-  }
-  BoundarySmoothOptions bso;
-  bso.iterations = options.odt_iterations;
-  bso.vertex_mask = near_bad;
-  bso.quality_floor = options.quality_floor;
-  if (options.accuracy_control && !target.acceptable_error.empty()) bso.acceptable_error = &target.acceptable_error;
-  if (options.smooth_curves) stats.moved_vertices += odt_smooth_curves(mesh, geometry, bso).moved;
-  if (options.smooth_surfaces) stats.moved_vertices += odt_smooth_surface(mesh, geometry, bso).moved;
+  // Curve and surface smoothing of the vertices of the tets below the floor.
+  const auto smooth_boundary_near_bad = [&]() {
+    BoundarySmoothOptions bso;
+    bso.iterations = options.odt_iterations;
+    bso.vertex_mask = vertices_of_poor_tets(mesh, movable_vertices(mesh, options), options.quality_floor);
+    bso.quality_floor = options.quality_floor;
+    if (options.accuracy_control && !target.acceptable_error.empty()) bso.acceptable_error = &target.acceptable_error;
+    if (options.smooth_curves) stats.moved_vertices += odt_smooth_curves(mesh, geometry, bso).moved;
+    if (options.smooth_surfaces) stats.moved_vertices += odt_smooth_surface(mesh, geometry, bso).moved;
+  };
+  smooth_boundary_near_bad();
 
   accuracy();  // what is left beyond the error after the smoothing above
   movable = movable_vertices(mesh, options);
@@ -138,19 +144,31 @@ void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const P
   } else {
     for (int round = 0; round < ivo.rounds; ++round) stats.moved_vertices += odt_smooth_volume(mesh, ivo.smooth).moved;
   }
-  LockedTetOptions lo;
-  lo.vertex_mask = movable;
-  stats.splits += split_locked_tets(mesh, lo).splits;
-  WorstVertexOptions wo;
-  wo.vertex_mask = movable_vertices(mesh, options);
-  stats.moved_vertices += optimize_worst_vertices(mesh, wo).improved;
-  if (options.flips) {
-    FlipImproveOptions fo;
-    fo.vertex_mask = wo.vertex_mask;
-    const FlipImproveReport fr = improve_tets_by_flips(mesh, fo);
-    stats.flips_23 += fr.flips_23;
-    stats.flips_32 += fr.flips_32;
-    stats.flips_44 += fr.flips_44;
+  // The tets still below the floor, in a few targeted passes while their
+  // number drops: boundary smoothing near them, locked tets split, inner
+  // vertices placed, flips.
+  std::size_t below = count_below(mesh, options.quality_floor);
+  for (int pass = 0; pass < 4 && below > 0; ++pass) {
+    if (pass > 0) smooth_boundary_near_bad();
+    LockedTetOptions lo;
+    lo.vertex_mask = movable_vertices(mesh, options);
+    lo.threshold = options.quality_floor;
+    stats.splits += split_locked_tets(mesh, lo).splits;
+    WorstVertexOptions wo;
+    wo.vertex_mask = movable_vertices(mesh, options);
+    wo.threshold = std::max(wo.threshold, options.quality_floor);
+    stats.moved_vertices += optimize_worst_vertices(mesh, wo).improved;
+    if (options.flips) {
+      FlipImproveOptions fo;
+      fo.vertex_mask = wo.vertex_mask;
+      const FlipImproveReport fr = improve_tets_by_flips(mesh, fo);
+      stats.flips_23 += fr.flips_23;
+      stats.flips_32 += fr.flips_32;
+      stats.flips_44 += fr.flips_44;
+    }
+    const std::size_t now = count_below(mesh, options.quality_floor);
+    if (now >= below) break;
+    below = now;
   }
 }
 
