@@ -537,7 +537,7 @@ int vtkFEMorphImprove::RequestData(
         { "RemovedCaps", d(stats.removed_caps) }, { "RemovedSpades", d(stats.removed_spades) },
         { "RepairedInverted", d(stats.removed_inverted) }, { "RemainingInverted", d(remaining) },
         { "MovedVertices", d(stats.moved_vertices) }, { "TetsBefore", d(stats.tets_before) },
-        { "TetsAfter", d(stats.tets_after) } });
+        { "TetsAfter", d(stats.tets_after) }, { "LeftAsItWas", stats.skipped ? 1.0 : 0.0 } });
     AddSummary(fd, "ImproveTimes",
       { { "Segmentation", segmentationSeconds }, { "Curves", stats.phase_seconds[0] },
         { "Surfaces", stats.phase_seconds[1] }, { "Volume", stats.phase_seconds[2] },

@@ -41,7 +41,10 @@
  * without density control), `ImproveCounts` (splits, collapses, accuracy
  * splits, flips 2-3, 3-2, 4-4, surface flips, removed slivers, caps, spades,
  * repaired inverted tetrahedra, remaining inverted, moved vertices, tets
- * before and after), `ImproveTimes` (seconds: segmentation, curves,
+ * before and after, LeftAsItWas: 1 when the mesh needed nothing -- no
+ * inverted tetrahedron, every stretch at 0.3 or more, no edge beyond the
+ * density thresholds, every curved region within its acceptable error --
+ * and is output unchanged), `ImproveTimes` (seconds: segmentation, curves,
  * surfaces, volume, total); one tuple per region: `GeometricError` (largest
  * distance of a boundary edge's midpoint to the region's fitted curved
  * surface, after) and `AcceptableGeometricError` (the target; NaN for planes

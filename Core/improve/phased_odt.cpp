@@ -13,6 +13,7 @@
 #include "improve/remove_degenerate_elements.h"
 #include "improve/remove_inverted_elements.h"
 #include "mesh/tet_mesh.h"
+#include "mesh/unique_edges.h"
 #include "quality/tet_quality.h"
 
 #include <algorithm>
@@ -68,6 +69,26 @@ std::vector<char> phase_vertices(const TetMesh& mesh, int phase, const std::vect
               (phase == 0 && (c == VertexClass::Curve || c == VertexClass::Corner));
   }
   return mask;
+}
+
+/// Whether the mesh needs nothing (PhasedOdtOptions::skip_if_good): no
+/// edge for the density control to split or collapse, every curved region
+/// within its acceptable error. Quality and inversion are checked by the
+/// caller.
+bool needs_nothing(const TetMesh& mesh, const BoundaryGeometry& geometry, const PhasedOdtTarget& target,
+                   const PhasedOdtOptions& options) {
+  if (options.density_control && target.density && !target.density->empty())
+    for (const Edge& e : unique_edges(mesh)) {
+      const Vec3 &a = mesh.point(e.first), &b = mesh.point(e.second);
+      const double scaled = (b - a).norm() * target.density->density_at(0.5 * (a + b), DensityLookup::Cell);
+      if (scaled >= options.split_threshold || (scaled > 0 && scaled <= options.collapse_threshold)) return false;
+    }
+  if (options.accuracy_control && !target.acceptable_error.empty()) {
+    const std::vector<double> error = region_geometric_error(mesh, geometry);
+    for (std::size_t r = 0; r < error.size() && r < target.acceptable_error.size(); ++r)
+      if (target.acceptable_error[r] > 0 && error[r] > target.acceptable_error[r]) return false;
+  }
+  return true;
 }
 
 /// Live tets with stretch below `threshold`.
@@ -205,6 +226,18 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
     const InvertedRemovalStats is = remove_inverted_elements(mesh, io);
     stats.removed_inverted += is.initial_inverted - is.remaining_inverted;
   };
+
+  if (options.skip_if_good && stats.inverted_before == 0 && stats.min_stretch_before >= options.quality_floor &&
+      needs_nothing(mesh, geometry, target, options)) {
+    stats.skipped = true;
+    stats.min_stretch_after = stats.min_stretch_before;
+    stats.mean_stretch_after = stats.mean_stretch_before;
+    stats.tets_after = stats.tets_before;
+    stats.density_error_after = stats.density_error_before;
+    stats.geometric_error_after = region_geometric_error(mesh, geometry);
+    stats.seconds = seconds_since(start);
+    return stats;
+  }
 
   // Fig. 2.34 (B) first for inverted tets: every later step needs a valid mesh.
   if (options.remove_inverted && stats.inverted_before > 0) remove_inverted();

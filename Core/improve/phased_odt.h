@@ -58,6 +58,11 @@ struct PhasedOdtOptions {
   /// vertices all of whose tets are flagged move, and only edges between such
   /// vertices are split, collapsed or flipped. Empty: the whole mesh.
   std::vector<std::uint8_t> tet_mask;
+  /// Leave a mesh that needs nothing as it is (issue 5: "input already
+  /// perfect: no change, fast"): no inverted tet, every tet at or above
+  /// quality_floor, no edge beyond the density thresholds and every curved
+  /// region within its acceptable error. Off: always run the phases.
+  bool skip_if_good = true;
   /// Keep every boundary vertex where it is (no segmentation): only inner
   /// vertices move, only edges between inner vertices are split or
   /// collapsed. Inverted tets are still repaired, which may remove a
@@ -100,6 +105,7 @@ struct PhasedOdtStats {
   std::array<double, 3> phase_seconds{{0, 0, 0}}; ///< curves, surfaces, volume
   double seconds = 0;
   bool aborted = false;
+  bool skipped = false;  ///< the mesh needed nothing (skip_if_good)
 };
 
 /// Thesis Fig. 2.34 on `mesh` (built with BuildOptions::allow_inverted when it

@@ -123,6 +123,28 @@ TEST(PhasedOdt, JitteredCubeReachesTheQualityGoal) {
   }
 }
 
+// Issue 5, bad input: "input already perfect (no change, fast)". The
+// unjittered Kuhn cube against its own density: every tet at 0.3 or more,
+// no edge beyond the density thresholds. Left bit for bit as it is, in one
+// pass over the edges; jittered, the same mesh is worked on.
+TEST(PhasedOdt, PerfectInputIsLeftAsItIs) {
+  const testing::TestMesh m = testing::make_cube_mesh(6, 0, 1);
+  TetMesh mesh = build(m);
+  DensityGrid grid;
+  ASSERT_TRUE(grid.build(m.points, m.tets, vertex_density(m.points, m.tets), 0));
+  PhasedOdtTarget target;
+  target.density = &grid;
+  const PhasedOdtStats stats = phased_odt(mesh, cube_geometry(), target);
+  ASSERT_GE(stats.min_stretch_before, 0.3);
+  EXPECT_TRUE(stats.skipped);
+  EXPECT_EQ(mesh.points(), m.points);
+  EXPECT_EQ(mesh.compact().tets, m.tets);
+
+  TetMesh jittered = build(testing::make_cube_mesh(6, 0.1, 1));
+  jitter_inner(jittered, 2);
+  EXPECT_FALSE(phased_odt(jittered, cube_geometry(), target).skipped);
+}
+
 // The region restriction: the tets of the lower half (input tets with a
 // vertex below z = 0.5 unflagged) keep their points.
 TEST(PhasedOdt, TetMaskKeepsTheRestUnchanged) {
