@@ -91,6 +91,12 @@ bool needs_nothing(const TetMesh& mesh, const BoundaryGeometry& geometry, const 
   return true;
 }
 
+void add_flips(PhasedOdtStats& stats, const FlipImproveReport& r) {
+  stats.flips_23 += r.flips_23;
+  stats.flips_32 += r.flips_32;
+  stats.flips_44 += r.flips_44;
+}
+
 /// Live tets with stretch below `threshold`.
 std::size_t count_below(const TetMesh& mesh, double threshold) {
   std::size_t n = 0;
@@ -137,7 +143,6 @@ void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const P
     stats.accuracy_splits += as.splits;
   };
   accuracy();
-  std::vector<std::uint8_t> movable = movable_vertices(mesh, options);
   // Curve and surface smoothing of the vertices of the tets below the floor.
   const auto smooth_boundary_near_bad = [&]() {
     BoundarySmoothOptions bso;
@@ -151,7 +156,7 @@ void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const P
   smooth_boundary_near_bad();
 
   accuracy();  // what is left beyond the error after the smoothing above
-  movable = movable_vertices(mesh, options);
+  const std::vector<std::uint8_t> movable = movable_vertices(mesh, options);
   ImproveVolumeOptions ivo;
   ivo.rounds = 2;
   ivo.smooth.iterations = options.odt_iterations;
@@ -182,10 +187,7 @@ void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const P
     if (options.flips) {
       FlipImproveOptions fo;
       fo.vertex_mask = wo.vertex_mask;
-      const FlipImproveReport fr = improve_tets_by_flips(mesh, fo);
-      stats.flips_23 += fr.flips_23;
-      stats.flips_32 += fr.flips_32;
-      stats.flips_44 += fr.flips_44;
+      add_flips(stats, improve_tets_by_flips(mesh, fo));
     }
     const std::size_t now = count_below(mesh, options.quality_floor);
     if (now >= below) break;
@@ -324,10 +326,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
         if (options.flips) {
           FlipImproveOptions fo;
           fo.vertex_mask = smooth_mask;
-          const FlipImproveReport fr = improve_tets_by_flips(mesh, fo);
-          stats.flips_23 += fr.flips_23;
-          stats.flips_32 += fr.flips_32;
-          stats.flips_44 += fr.flips_44;
+          add_flips(stats, improve_tets_by_flips(mesh, fo));
         }
       }
       // Fig. 2.34: the loop ends when no density or accuracy operation is
