@@ -30,7 +30,7 @@ bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, i
 /// v's position for the step alpha (false: none for this alpha); the first
 /// one that passes the quality guard (when `quality_guard`, with
 /// move_keeps_quality(.., floor)) and keeps every tet of the ball positive
-/// (TetMesh::move_vertex, exact) is taken. `ball` is v's ball. Returns the
+/// (TetMesh::move_vertex_in_ball, exact) is taken. `ball` is v's whole ball. Returns the
 /// accepted alpha, 0 when v stayed; *halvings counts the halvings tried.
 template <class Candidate>
 double move_with_step_halving(TetMesh& mesh, const std::vector<index_t>& ball, index_t v, int max_halvings,
@@ -42,7 +42,7 @@ double move_with_step_halving(TetMesh& mesh, const std::vector<index_t>& ball, i
     Vec3 p;
     if (!candidate(alpha, &p)) continue;
     if (quality_guard && !move_keeps_quality(mesh, ball, v, p, old_min, floor)) continue;
-    if (mesh.move_vertex(v, p) == OpStatus::Ok) return alpha;
+    if (mesh.move_vertex_in_ball(v, p, ball) == OpStatus::Ok) return alpha;
   }
   return 0;
 }

@@ -13,90 +13,209 @@
 
 namespace femorph {
 
-OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options) {
-  OdtSmoothReport report;
+namespace {
+
+/// The vertices to smooth and their balls (topology does not change while
+/// smoothing, so the balls are gathered once), grouped by colour: no two
+/// vertices of one colour share a tet, so a colour's moves are independent.
+struct ColouredBalls {
+  std::vector<index_t> vertices;     // candidate vertices, by colour then id
+  std::vector<std::size_t> colour_start;  // vertices[colour_start[c] .. colour_start[c + 1])
+  std::vector<std::size_t> ball_start;    // per entry of `vertices`
+  std::vector<index_t> ball_tets;
+};
+
+ColouredBalls coloured_balls(const TetMesh& mesh, const OdtSmoothOptions& options) {
   const index_t slots = mesh.vertex_slots();
   const bool use_mask = !options.vertex_mask.empty();
+  std::vector<index_t> index(static_cast<std::size_t>(slots), kInvalidIndex);
+  std::vector<index_t> ids;
+  for (index_t v = 0; v < slots; ++v) {
+    if (!mesh.vertex_alive(v) || mesh.vertex_class(v) != VertexClass::Inner) continue;
+    if (use_mask && (static_cast<std::size_t>(v) >= options.vertex_mask.size() || !options.vertex_mask[v])) continue;
+    index[v] = static_cast<index_t>(ids.size());
+    ids.push_back(v);
+  }
+  // Balls in id order (CSR over the live tets).
+  std::vector<std::size_t> start(ids.size() + 1, 0);
+  for (index_t t = 0; t < mesh.tet_slots(); ++t)
+    if (mesh.tet_alive(t))
+      for (const index_t w : mesh.tet(t))
+        if (index[w] >= 0) ++start[index[w] + 1];
+  for (std::size_t i = 0; i < ids.size(); ++i) start[i + 1] += start[i];
+  std::vector<index_t> tets(start.back());
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for (index_t t = 0; t < mesh.tet_slots(); ++t)
+    if (mesh.tet_alive(t))
+      for (const index_t w : mesh.tet(t))
+        if (index[w] >= 0) tets[fill[index[w]]++] = t;
+
+  // Greedy colouring in id order: deterministic, and the same whatever the
+  // number of threads.
+  std::vector<int> colour(ids.size(), -1);
+  std::vector<char> used;
+  int colours = 0;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    used.assign(static_cast<std::size_t>(colours) + 1, 0);
+    for (std::size_t k = start[i]; k < start[i + 1]; ++k)
+      for (const index_t w : mesh.tet(tets[k]))
+        if (index[w] >= 0 && colour[index[w]] >= 0) used[colour[index[w]]] = 1;
+    int c = 0;
+    while (used[c]) ++c;
+    colour[i] = c;
+    colours = std::max(colours, c + 1);
+  }
+
+  ColouredBalls out;
+  out.colour_start.assign(static_cast<std::size_t>(colours) + 1, 0);
+  for (const int c : colour) ++out.colour_start[c + 1];
+  for (int c = 0; c < colours; ++c) out.colour_start[c + 1] += out.colour_start[c];
+  std::vector<std::size_t> slot(out.colour_start.begin(), out.colour_start.end() - 1);
+  std::vector<std::size_t> order(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) order[slot[colour[i]]++] = i;
+  out.vertices.resize(ids.size());
+  out.ball_start.assign(ids.size() + 1, 0);
+  out.ball_tets.reserve(tets.size());
+  for (std::size_t j = 0; j < order.size(); ++j) {
+    const std::size_t i = order[j];
+    out.vertices[j] = ids[i];
+    out.ball_tets.insert(out.ball_tets.end(), tets.begin() + static_cast<std::ptrdiff_t>(start[i]),
+                         tets.begin() + static_cast<std::ptrdiff_t>(start[i + 1]));
+    out.ball_start[j + 1] = out.ball_tets.size();
+  }
+  return out;
+}
+
+}  // namespace
+
+OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options) {
+  OdtSmoothReport report;
   const bool vertex_rho = !options.density && !options.vertex_density.empty();
-  std::vector<index_t> ball;
-  // Active set: bit 0 = visit in this sweep, bit 1 = in the next one.
-  std::vector<std::uint8_t> active(static_cast<std::size_t>(slots), 1);
+  const ColouredBalls cb = coloured_balls(mesh, options);
+  const std::size_t n = cb.vertices.size();
+  if (n == 0) return report;
+  // Active set (per entry of cb.vertices): visit in this sweep; moved far.
+  std::vector<std::uint8_t> active(n, 1), moved_far(n, 0);
+  std::vector<index_t> entry(static_cast<std::size_t>(mesh.vertex_slots()), kInvalidIndex);
+  for (std::size_t j = 0; j < n; ++j) entry[cb.vertices[j]] = static_cast<index_t>(j);
+  // Per tet, for this sweep: 1 when its centre c_tau is the circumcentre
+  // (no boundary vertex, locally Delaunay at the sweep's start), 0 for the
+  // barycentre. Computed once per sweep instead of once per ball visit
+  // (four times per tet), and read-only while the colours move in parallel.
+  std::vector<std::uint8_t> circumcentre(static_cast<std::size_t>(mesh.tet_slots()), 0), needed(circumcentre.size(), 0);
+  std::vector<index_t> needed_list;
 
   for (int sweep = 0; sweep < options.iterations; ++sweep) {
     ++report.sweeps;
-    double max_step = 0;
-    if (sweep > 0 && options.active_tolerance > 0)
-      for (auto& a : active) a = (a & 2) ? 1 : 0;
-    for (index_t v = 0; v < slots; ++v) {
-      if (!(active[v] & 1) || !mesh.vertex_alive(v) || mesh.vertex_class(v) != VertexClass::Inner) continue;
-      if (use_mask && (static_cast<std::size_t>(v) >= options.vertex_mask.size() || !options.vertex_mask[v])) continue;
-      mesh.vertex_ball(v, ball);
-      const Vec3 x = mesh.point(v);
-
-      // Eq. 2.31: density-weighted mean of the centres c_tau.
-      Vec3 sum_c = Vec3::Zero();
-      double sum_w = 0, sum_len = 0;
-      int n_len = 0;
-      for (index_t t : ball) {
-        const Tet& T = mesh.tet(t);
-        const Vec3 &a = mesh.point(T[0]), &b = mesh.point(T[1]), &c = mesh.point(T[2]), &d = mesh.point(T[3]);
-        const Vec3 bary = (a + b + c + d) / 4;
-        const double volume = tet_signed_volume(a, b, c, d);
-        double rho = 1;
-        if (options.density)
-          rho = options.density(bary);
-        else if (vertex_rho)
-          rho = (options.vertex_density[T[0]] + options.vertex_density[T[1]] + options.vertex_density[T[2]] +
-                 options.vertex_density[T[3]]) / 4;
-        // Barycentre for tets with a boundary vertex (Fig. 2.33 (b)) and for
-        // tets that are not Delaunay (2.6.5.4); circumcentre otherwise.
-        bool boundary = false;
-        for (index_t w : T) {
-          boundary = boundary || mesh.on_boundary(w);
-          if (w != v) {
-            sum_len += (mesh.point(w) - x).norm();
-            ++n_len;
-          }
-        }
-        Vec3 centre = bary;
-        if (!boundary && locally_delaunay(mesh, t)) {
-          if (!tet_circumcentre(a, b, c, d, &centre)) centre = bary;
-        }
-        const double weight = volume * rho;
-        sum_c += weight * centre;
-        sum_w += weight;
-      }
-      if (!(sum_w > 0) || n_len == 0) continue;
-      const Vec3 step = sum_c / sum_w - x;
-      const double length = sum_len / n_len;
-      const double relative = step.norm() / length;
-      if (!std::isfinite(relative) || relative <= options.tolerance * 1e-3) continue;  // already there
-
-      // Fig. 2.33 step-size rule: alpha = 1, halved while the move inverts a
-      // tet (or, with the guard, lowers the ball's minimum stretch).
-      const double alpha = move_with_step_halving(
-          mesh, ball, v, options.max_halvings, options.quality_guard, options.quality_floor,
-          [&](double a, Vec3* p) {
-            *p = x + a * step;
-            return true;
-          },
-          &report.halvings);
-      const bool accepted = alpha > 0;
-      if (accepted) {
-        ++report.moved;
-        max_step = std::max(max_step, alpha * relative);
-        if (alpha * relative > options.active_tolerance)
-          for (const index_t t : ball)
-            for (const index_t w : mesh.tet(t)) active[w] |= 2;
-      } else {
-        ++report.refused;
+    if (sweep > 0 && options.active_tolerance > 0) {
+      std::fill(active.begin(), active.end(), 0);
+      for (std::size_t j = 0; j < n; ++j) {
+        if (!moved_far[j]) continue;
+        for (std::size_t k = cb.ball_start[j]; k < cb.ball_start[j + 1]; ++k)
+          for (const index_t w : mesh.tet(cb.ball_tets[k]))
+            if (entry[w] >= 0) active[entry[w]] = 1;
       }
     }
+    std::fill(moved_far.begin(), moved_far.end(), 0);
+    needed_list.clear();
+    for (std::size_t j = 0; j < n; ++j) {
+      if (!active[j]) continue;
+      for (std::size_t k = cb.ball_start[j]; k < cb.ball_start[j + 1]; ++k) {
+        const index_t t = cb.ball_tets[k];
+        if (needed[t]) continue;
+        needed[t] = 1;
+        needed_list.push_back(t);
+      }
+    }
+    const long num_needed = static_cast<long>(needed_list.size());
+#pragma omp parallel for schedule(static) if (num_needed >= kParallelMinItems)
+    for (long i = 0; i < num_needed; ++i) {
+      const index_t t = needed_list[i];
+      bool boundary = false;
+      for (const index_t w : mesh.tet(t)) boundary = boundary || mesh.on_boundary(w);
+      circumcentre[t] = !boundary && locally_delaunay(mesh, t);
+    }
+    for (const index_t t : needed_list) needed[t] = 0;
+
+    double max_step = 0;
+    std::size_t moved = 0, refused = 0, halvings = 0;
+    for (std::size_t c = 0; c + 1 < cb.colour_start.size(); ++c) {
+      const long first = static_cast<long>(cb.colour_start[c]), last = static_cast<long>(cb.colour_start[c + 1]);
+#pragma omp parallel if (last - first >= 2048)
+      {
+        std::vector<index_t> ball;
+#pragma omp for schedule(dynamic, 256) reduction(max : max_step) reduction(+ : moved, refused, halvings)
+        for (long j = first; j < last; ++j) {
+          if (!active[j]) continue;
+          const index_t v = cb.vertices[j];
+          ball.assign(cb.ball_tets.begin() + static_cast<std::ptrdiff_t>(cb.ball_start[j]),
+                      cb.ball_tets.begin() + static_cast<std::ptrdiff_t>(cb.ball_start[j + 1]));
+          const Vec3 x = mesh.point(v);
+
+          // Eq. 2.31: density-weighted mean of the centres c_tau.
+          Vec3 sum_c = Vec3::Zero();
+          double sum_w = 0, sum_len = 0;
+          int n_len = 0;
+          for (const index_t t : ball) {
+            const Tet& T = mesh.tet(t);
+            const Vec3 &a = mesh.point(T[0]), &b = mesh.point(T[1]), &cc = mesh.point(T[2]), &d = mesh.point(T[3]);
+            const Vec3 bary = (a + b + cc + d) / 4;
+            const double volume = tet_signed_volume(a, b, cc, d);
+            double rho = 1;
+            if (options.density)
+              rho = options.density(bary);
+            else if (vertex_rho)
+              rho = (options.vertex_density[T[0]] + options.vertex_density[T[1]] + options.vertex_density[T[2]] +
+                     options.vertex_density[T[3]]) / 4;
+            for (const index_t w : T)
+              if (w != v) {
+                sum_len += (mesh.point(w) - x).norm();
+                ++n_len;
+              }
+            // Barycentre for tets with a boundary vertex (Fig. 2.33 (b)) and
+            // for tets that are not Delaunay (2.6.5.4); circumcentre otherwise.
+            Vec3 centre = bary;
+            if (circumcentre[t] && !tet_circumcentre(a, b, cc, d, &centre)) centre = bary;
+            const double weight = volume * rho;
+            sum_c += weight * centre;
+            sum_w += weight;
+          }
+          if (!(sum_w > 0) || n_len == 0) continue;
+          const Vec3 step = sum_c / sum_w - x;
+          const double length = sum_len / n_len;
+          const double relative = step.norm() / length;
+          if (!std::isfinite(relative) || relative <= options.tolerance * 1e-3) continue;  // already there
+
+          // Fig. 2.33 step-size rule: alpha = 1, halved while the move inverts
+          // a tet (or, with the guard, lowers the ball's minimum stretch).
+          std::size_t h = 0;
+          const double alpha = move_with_step_halving(
+              mesh, ball, v, options.max_halvings, options.quality_guard, options.quality_floor,
+              [&](double a, Vec3* p) {
+                *p = x + a * step;
+                return true;
+              },
+              &h);
+          halvings += h;
+          if (alpha > 0) {
+            ++moved;
+            max_step = std::max(max_step, alpha * relative);
+            moved_far[j] = alpha * relative > options.active_tolerance;
+          } else {
+            ++refused;
+          }
+        }
+      }
+    }
+    report.moved += moved;
+    report.refused += refused;
+    report.halvings += halvings;
     report.last_max_step = max_step;
     if (max_step <= options.tolerance) {
       report.converged = true;
       break;
     }
+    if (options.active_tolerance <= 0) std::fill(active.begin(), active.end(), 1);
   }
   return report;
 }

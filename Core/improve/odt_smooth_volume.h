@@ -64,7 +64,11 @@ struct OdtSmoothReport {
 /// opposite vertex strictly inside its circumsphere, exact test). a starts at
 /// 1 and is halved while the move would invert a tet (TetMesh::move_vertex,
 /// exact) or, with the quality guard, lower the ball's minimum stretch.
-/// Vertices are visited in id order: deterministic.
+/// Beyond the thesis, for speed: vertices are visited colour by colour
+/// (greedy colouring in id order, no two vertices of a colour in one tet),
+/// each colour in parallel, and the Delaunay test is made once per tet and
+/// sweep, at its start. The result does not depend on the number of
+/// threads.
 OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options = {});
 
 }  // namespace femorph

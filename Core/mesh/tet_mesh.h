@@ -187,6 +187,10 @@ class TetMesh {
   /// Moves v to p if every tet of its ball stays positive (exact test);
   /// otherwise refuses and leaves v in place.
   OpStatus move_vertex(index_t v, const Vec3& p);
+  /// The same test with v's ball given by the caller (every live tet that
+  /// holds v): no scratch, touched_tets() not updated, so it may run
+  /// concurrently for vertices that share no tet (the parallel smoothers).
+  OpStatus move_vertex_in_ball(index_t v, const Vec3& p, const std::vector<index_t>& ball);
   /// Moves v without any check (for callers that validated already).
   void set_point(index_t v, const Vec3& p) { points_[v] = p; }
 

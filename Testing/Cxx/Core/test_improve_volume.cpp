@@ -10,6 +10,7 @@
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -100,6 +101,29 @@ TEST(ImproveVolume, SmoothingAloneIsMonotoneAndKeepsBoundary) {
   EXPECT_GE(min1, min0);
   EXPECT_GT(mean1, mean0);
   EXPECT_EQ(r.sweeps, 3);
+}
+
+// The coloured, parallel sweeps (odt_smooth_volume.h) must give the same
+// points whatever the number of threads: reproducible outputs.
+TEST(ImproveVolume, SmoothingDoesNotDependOnThreadCount) {
+  const testing::TestMesh cube = testing::make_cube_mesh(14, 0.1, 5);
+  TetMesh m;
+  ASSERT_TRUE(m.build(cube.points, cube.tets).ok);
+  ASSERT_GT(perturb_inner_vertices(m, 0.4, 7), 1000);
+  TetMesh one = m, two = m;
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const OdtSmoothReport r1 = odt_smooth_volume(one);
+  omp_set_num_threads(2);
+  const OdtSmoothReport r2 = odt_smooth_volume(two);
+  omp_set_num_threads(threads);
+  EXPECT_GT(r1.moved, 1000u);
+  EXPECT_EQ(r1.moved, r2.moved);
+  EXPECT_EQ(r1.halvings, r2.halvings);
+  std::size_t differ = 0;
+  for (index_t v = 0; v < m.vertex_slots(); ++v)
+    differ += std::memcmp(one.point(v).data(), two.point(v).data(), 3 * sizeof(double)) != 0;
+  EXPECT_EQ(differ, 0u);
 }
 
 TEST(ImproveVolume, FlipsRaiseMinimumOfQueue) {
