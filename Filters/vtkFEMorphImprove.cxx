@@ -169,6 +169,7 @@ void vtkFEMorphImprove::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DensityControl: " << this->DensityControl << "\n";
   os << indent << "AccuracyControl: " << this->AccuracyControl << "\n";
   os << indent << "Flips: " << this->Flips << "\n";
+  os << indent << "MoveUnfittedRegions: " << this->MoveUnfittedRegions << "\n";
   os << indent << "OdtIterations: " << this->OdtIterations << "\n";
   os << indent << "MaxLoops: " << this->MaxLoops << "\n";
   os << indent << "SplitThreshold: " << this->SplitThreshold << "\n";
@@ -419,6 +420,7 @@ int vtkFEMorphImprove::RequestData(
     po.density_control = this->DensityControl != 0;
     po.accuracy_control = this->AccuracyControl != 0;
     po.flips = this->Flips != 0;
+    po.move_unfitted_regions = this->MoveUnfittedRegions != 0;
     po.odt_iterations = this->OdtIterations;
     po.max_loops = this->MaxLoops;
     po.split_threshold = beta1;

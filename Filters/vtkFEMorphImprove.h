@@ -115,6 +115,18 @@ public:
 
   ///@{
   /**
+   * Let the surface vertices of a region the segmentation could not fit (a
+   * stretched fillet, a free-form face; RegionType unknown) move on that
+   * region's triangles as they are in the input, instead of staying where
+   * they are. Beyond the thesis. Default on.
+   */
+  vtkSetMacro(MoveUnfittedRegions, vtkTypeBool);
+  vtkGetMacro(MoveUnfittedRegions, vtkTypeBool);
+  vtkBooleanMacro(MoveUnfittedRegions, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
    * ODT sweeps per step of the loop (thesis: two or three). In [1, 100].
    * Default 3.
    */
@@ -214,6 +226,7 @@ protected:
   vtkTypeBool DensityControl = 1;
   vtkTypeBool AccuracyControl = 1;
   vtkTypeBool Flips = 1;
+  vtkTypeBool MoveUnfittedRegions = 1;
   int OdtIterations = 3;
   int MaxLoops = 8;
   double SplitThreshold = 1.5;

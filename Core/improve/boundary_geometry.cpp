@@ -52,6 +52,25 @@ bool is_line_or_circle(const CurvePrimitive& c) {
 
 }  // namespace
 
+void add_discrete_regions(const TetMesh& mesh, BoundaryGeometry& geometry) {
+  std::vector<std::vector<std::array<Vec3, 3>>> triangles;
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const Tet& T = mesh.tet(t);
+    for (int f = 0; f < 4; ++f) {
+      if (!mesh.is_boundary_face(t, f)) continue;
+      const index_t r = mesh.face_region(t, f);
+      if (r < 0 || geometry.region(r)) continue;
+      if (static_cast<std::size_t>(r) >= triangles.size()) triangles.resize(static_cast<std::size_t>(r) + 1);
+      triangles[r].push_back(
+          {mesh.point(T[kTetFace[f][0]]), mesh.point(T[kTetFace[f][1]]), mesh.point(T[kTetFace[f][2]])});
+    }
+  }
+  geometry.discrete.assign(std::max(geometry.discrete.size(), triangles.size()), DiscreteSurface());
+  for (std::size_t r = 0; r < triangles.size(); ++r)
+    if (!triangles[r].empty()) geometry.discrete[r].build(std::move(triangles[r]));
+}
+
 VertexConstraint vertex_constraint(const TetMesh& mesh, const BoundaryGeometry& geometry, index_t v) {
   VertexConstraint c;
   const VertexClass cls = mesh.vertex_class(v);
@@ -63,7 +82,12 @@ VertexConstraint vertex_constraint(const TetMesh& mesh, const BoundaryGeometry& 
   if (regions.size() == 1) {
     c.region_a = regions[0];
     c.surface = geometry.region(regions[0]);
-    if (c.surface && cls == VertexClass::Surface) c.kind = VertexConstraint::Surface;
+    if (cls != VertexClass::Surface) return c;
+    if (c.surface) {
+      c.kind = VertexConstraint::Surface;
+    } else if ((c.discrete = geometry.discrete_region(regions[0]))) {
+      c.kind = VertexConstraint::Discrete;
+    }
     return c;
   }
   if (regions.size() != 2 || cls != VertexClass::Curve) return c;
@@ -111,6 +135,9 @@ bool project_to_constraint(const VertexConstraint& c, const Vec3& p, Vec3* out) 
       *out = q;
       return q.allFinite();
     }
+    case VertexConstraint::Discrete:
+      *out = c.discrete->closest_point(p);
+      return out->allFinite();
     case VertexConstraint::Fixed:
       break;
   }

@@ -8,6 +8,7 @@
 
 #include "common/types.h"
 #include "geometry/curve_primitive.h"
+#include "geometry/discrete_surface.h"
 #include "geometry/surface_primitive.h"
 
 #include <array>
@@ -24,13 +25,26 @@ struct BoundaryGeometry {
   /// Fitted boundary curves and the two regions each separates.
   std::vector<CurvePrimitive> curves;
   std::vector<std::array<index_t, 2>> curve_regions;
+  /// Per region id: the triangles of a region without a fit, as given
+  /// (add_discrete_regions); its surface vertices move on them. Empty
+  /// entries (or none at all): those vertices stay.
+  std::vector<DiscreteSurface> discrete;
 
   const SurfacePrimitive* region(index_t r) const {
     return r >= 0 && r < static_cast<index_t>(regions.size()) && regions[r].type != SurfaceType::Unknown
                ? &regions[r]
                : nullptr;
   }
+  const DiscreteSurface* discrete_region(index_t r) const {
+    return r >= 0 && r < static_cast<index_t>(discrete.size()) && !discrete[r].empty() ? &discrete[r] : nullptr;
+  }
 };
+
+/// Keeps the current boundary triangles of every region without a fit (and
+/// of faces without a region: none) as geometry.discrete, so that its
+/// surface vertices can move on them (beyond the thesis: a stretched fillet
+/// is no torus any more, and its frozen triangles would bound the quality).
+void add_discrete_regions(const TetMesh& mesh, BoundaryGeometry& geometry);
 
 /// Where a boundary vertex may go.
 struct VertexConstraint {
@@ -39,23 +53,27 @@ struct VertexConstraint {
     Surface,  ///< on one fitted region: `surface`
     Curve,    ///< on a curve between regions a and b: `curve` (may be null)
               ///< and the two surfaces
-    Fixed,    ///< a corner, or a region or curve without a fit
+    Fixed,    ///< a corner, or a region or curve without a fit (nor
+              ///< triangles kept for it)
+    Discrete,  ///< on one region without a fit: on its kept triangles
   };
   Kind kind = Free;
   index_t region_a = kInvalidIndex, region_b = kInvalidIndex;
   const SurfacePrimitive* surface = nullptr;    ///< Surface: its region; Curve: region a
   const SurfacePrimitive* surface_b = nullptr;  ///< Curve: region b
   const CurvePrimitive* curve = nullptr;        ///< Curve: the fitted curve, when one is known
+  const DiscreteSurface* discrete = nullptr;    ///< Discrete: the region's triangles
 };
 
 /// The constraint of vertex v from the regions of its boundary faces and its
-/// class: Inner -> Free; one region -> Surface (Fixed when the region has no
-/// fit); two regions -> Curve (Fixed when either region has no fit and no
+/// class: Inner -> Free; one region -> Surface (Discrete when the region has
+/// no fit but kept triangles, else Fixed); two regions -> Curve (Fixed when either region has no fit and no
 /// line or circle curve between them is known); Corner or more -> Fixed.
 /// Among several curves between the same two regions the one closest to v.
 VertexConstraint vertex_constraint(const TetMesh& mesh, const BoundaryGeometry& geometry, index_t v);
 
-/// Closest point to p that satisfies c: the surface's closest point; on a
+/// Closest point to p that satisfies c: the surface's (or kept triangles')
+/// closest point; on a
 /// line or circle (arc) the curve's; on other curves alternating projections
 /// onto the two surfaces (converging to their intersection); Fixed: nullptr
 /// result (returns false); Free: p.

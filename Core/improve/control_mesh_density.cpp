@@ -7,6 +7,7 @@
 #include "quality/tet_quality.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <queue>
@@ -82,6 +83,19 @@ double stretch_with(const TetMesh& mesh, index_t t, index_t from, index_t to, in
 /// The stretch floor: refuse when the new worst tet is below the floor and
 /// below the old worst.
 bool below_floor(double new_min, double old_min, double floor) { return new_min < floor && new_min < old_min; }
+
+/// The vertices of the tets of two balls except a and b, sorted: after the
+/// collapse of a and b these are the neighbours of the surviving vertex.
+void ball_vertices(const TetMesh& mesh, const std::vector<index_t>& ball_a, const std::vector<index_t>& ball_b,
+                   index_t a, index_t b, std::vector<index_t>& out) {
+  out.clear();
+  for (const std::vector<index_t>* ball : {&ball_a, &ball_b})
+    for (const index_t t : *ball)
+      for (const index_t w : mesh.tet(t))
+        if (w != a && w != b) out.push_back(w);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
 
 enum class Projection { NotNeeded, Moved, Refused };
 
@@ -177,7 +191,7 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
     if (scaled[i] > 0 && scaled[i] <= beta2)
       heap.push({(mesh.point(edges[i].second) - mesh.point(edges[i].first)).norm(), edges[i].first, edges[i].second});
   std::size_t collapses = 0;
-  std::vector<index_t> ball_keep, ball_remove, neighbours, neighbours2;
+  std::vector<index_t> ball_keep, ball_remove, neighbours;
   while (!heap.empty()) {
     // Step 5: pop the shortest (stale entries: the edge is gone or changed).
     const HeapEdge top = heap.top();
@@ -214,12 +228,10 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
     const int n_candidates = ck == mesh.vertex_class(plan.remove) && ck != VertexClass::Corner ? 3 : 1;
     mesh.vertex_ball(plan.keep, ball_keep);
     mesh.vertex_ball(plan.remove, ball_remove);
-    mesh.vertex_neighbors(plan.keep, neighbours);
-    mesh.vertex_neighbors(plan.remove, neighbours2);
-    double old_min = std::numeric_limits<double>::infinity();
-    for (const std::vector<index_t>* ball : {&ball_keep, &ball_remove})
-      for (const index_t t : *ball)
-        old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, plan.position));
+    ball_vertices(mesh, ball_keep, ball_remove, plan.keep, plan.remove, neighbours);
+    // The worst stretch of the tets as they are, computed when a candidate
+    // first passes the cheaper long-edge test (most candidates fail it).
+    double old_min = std::numeric_limits<double>::quiet_NaN();
     int best = -1;
     double best_min = -std::numeric_limits<double>::infinity();
     for (int c = 0; c < n_candidates; ++c) {
@@ -229,13 +241,18 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
       // (else a split and a collapse can undo each other forever; the
       // thesis' convergence condition on beta1, beta2 assumes this).
       bool creates_long_edge = false;
-      for (const std::vector<index_t>* ns : {&neighbours, &neighbours2})
-        for (const index_t n : *ns) {
-          if (n == plan.keep || n == plan.remove || creates_long_edge) continue;
-          const Vec3& q = mesh.point(n);
-          creates_long_edge = (q - x).norm() * grid.density_at(0.5 * (q + x), options.lookup) >= options.split_threshold;
-        }
+      for (const index_t n : neighbours) {
+        const Vec3& q = mesh.point(n);
+        creates_long_edge = (q - x).norm() * grid.density_at(0.5 * (q + x), options.lookup) >= options.split_threshold;
+        if (creates_long_edge) break;
+      }
       if (creates_long_edge) continue;
+      if (std::isnan(old_min)) {
+        old_min = std::numeric_limits<double>::infinity();
+        for (const std::vector<index_t>* ball : {&ball_keep, &ball_remove})
+          for (const index_t t : *ball)
+            old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, x));
+      }
       // Stretch floor over the tets that survive, with remove renamed keep
       // and keep moved to x.
       double new_min = std::numeric_limits<double>::infinity();
@@ -255,9 +272,9 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
     projected = projected && best == 0;
     ++collapses;
     if (projected && stats) ++stats->projections;
-    // Edges around the surviving vertex that now qualify go into the heap
-    // (duplicates are harmless: stale entries are skipped when popped).
-    mesh.vertex_neighbors(plan.keep, neighbours);
+    // Edges around the surviving vertex (its neighbours are `neighbours`)
+    // that now qualify go into the heap (duplicates are harmless: stale
+    // entries are skipped when popped).
     for (const index_t n : neighbours) {
       if (!masked(mask, n) || !masked(mask, plan.keep)) continue;
       if (qualifies(plan.keep, n, &length)) heap.push({length, std::min(plan.keep, n), std::max(plan.keep, n)});
@@ -268,7 +285,7 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
 
 DensityControlStats control_mesh_density(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options) {
   DensityControlStats stats;
-  stats.error_before = mean_density_error(mesh, grid, options.lookup);
+  if (options.measure_error) stats.error_before = mean_density_error(mesh, grid, options.lookup);
   if (grid.empty()) {
     stats.error_after = stats.error_before;
     stats.converged = true;
@@ -286,7 +303,7 @@ DensityControlStats control_mesh_density(TetMesh& mesh, const DensityGrid& grid,
       break;
     }
   }
-  stats.error_after = mean_density_error(mesh, grid, options.lookup);
+  if (options.measure_error) stats.error_after = mean_density_error(mesh, grid, options.lookup);
   return stats;
 }
 

@@ -60,6 +60,9 @@ struct DensityControlOptions {
   /// vertices are flagged are split or collapsed (vertices a split creates
   /// inherit the flag). Empty: every edge.
   std::vector<char> vertex_mask;
+  /// Measure Eq. 2.35 before and after (error_before/after); off for
+  /// callers that measure it themselves (two passes over every edge).
+  bool measure_error = true;
 };
 
 struct DensityControlStats {

@@ -188,6 +188,7 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
   std::vector<Vec2> opposite2;  // vertex across each ring triangle's outer edge, mapped
   std::vector<std::uint8_t> has_opposite;
   Chart chart;
+  SurfacePrimitive tangent_plane;
 
   for (int sweep = 0; sweep < options.iterations; ++sweep) {
     ++report.sweeps;
@@ -196,9 +197,9 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
       if (!mesh.vertex_alive(v) || mesh.vertex_class(v) != VertexClass::Surface) continue;
       if (use_mask && (static_cast<std::size_t>(v) >= options.vertex_mask.size() || !options.vertex_mask[v])) continue;
       const VertexConstraint c = vertex_constraint(mesh, geometry, v);
-      if (c.kind != VertexConstraint::Surface) continue;
+      if (c.kind != VertexConstraint::Surface && c.kind != VertexConstraint::Discrete) continue;
       const Vec3 x = mesh.point(v);
-      if (!chart.init(*c.surface, x)) continue;
+      if (c.kind == VertexConstraint::Surface && !chart.init(*c.surface, x)) continue;
 
       // The 1-ring of boundary triangles: boundary faces of the ball.
       mesh.vertex_ball(v, ball);
@@ -216,6 +217,17 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
         }
       }
       if (ring.size() < 3) continue;
+      // A region without a fit (kept triangles): the plane through x normal
+      // to its ring, the moves projected back onto the kept triangles.
+      if (c.kind == VertexConstraint::Discrete) {
+        Vec3 normal = Vec3::Zero();
+        for (const auto& r : ring) normal += (mesh.point(r[0]) - x).cross(mesh.point(r[1]) - x);
+        if (!(normal.norm() > 0)) continue;
+        tangent_plane.type = SurfaceType::Plane;
+        tangent_plane.point = x;
+        tangent_plane.axis = normal.normalized();
+        if (!chart.init(tangent_plane, x)) continue;
+      }
       // Step 1 (Fig. 2.44): map v and its ring to the parameter plane.
       const Vec2 x2 = chart.map(x);
       link2.resize(link.size());

@@ -197,9 +197,10 @@ void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const P
 
 }  // namespace
 
-PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const PhasedOdtTarget& target,
+PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry, const PhasedOdtTarget& target,
                           const PhasedOdtOptions& options) {
   const auto start = Clock::now();
+  BoundaryGeometry geometry = given_geometry;  // the kept triangles are added below
   PhasedOdtStats stats;
   live_stretch_range(mesh, &stats.min_stretch_before, &stats.mean_stretch_before);
   stats.tets_before = mesh.live_tets();
@@ -213,7 +214,9 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
   const ProjectVertexFn project = [&mesh, &geometry](index_t v, const Vec3& p) {
     const VertexConstraint c = vertex_constraint(mesh, geometry, v);
     Vec3 q;
-    if ((c.kind == VertexConstraint::Surface || c.kind == VertexConstraint::Curve) && project_to_constraint(c, p, &q))
+    if ((c.kind == VertexConstraint::Surface || c.kind == VertexConstraint::Curve ||
+         c.kind == VertexConstraint::Discrete) &&
+        project_to_constraint(c, p, &q))
       return q;
     return p;
   };
@@ -240,6 +243,8 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
     stats.seconds = seconds_since(start);
     return stats;
   }
+
+  if (options.move_unfitted_regions && !options.fix_boundary) add_discrete_regions(mesh, geometry);
 
   // Fig. 2.34 (B) first for inverted tets: every later step needs a valid mesh.
   if (options.remove_inverted && stats.inverted_before > 0) remove_inverted();
@@ -278,6 +283,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& geometry, const
         dco.collapse_threshold = options.collapse_threshold;
         dco.min_stretch = options.degenerate_threshold;
         dco.max_iterations = 1;
+        dco.measure_error = false;
         dco.project = project;
         dco.vertex_mask = phase_vertices(mesh, phase, movable);
         const DensityControlStats dcs = control_mesh_density(mesh, *target.density, dco);

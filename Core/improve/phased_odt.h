@@ -68,6 +68,10 @@ struct PhasedOdtOptions {
   /// collapsed. Inverted tets are still repaired, which may remove a
   /// boundary vertex.
   bool fix_boundary = false;
+  /// Beyond the thesis: the surface vertices of a region without a fit (a
+  /// stretched fillet, a free-form face) move on that region's triangles as
+  /// given (add_discrete_regions) instead of staying where they are.
+  bool move_unfitted_regions = true;
   /// Progress in [0, 1] with the phase's name; return false to abort (the
   /// mesh is then valid but only partly improved).
   std::function<bool(double fraction, const char* phase)> progress;

@@ -31,13 +31,20 @@ std::vector<Edge> bucket_edges(index_t num_vertices, ForEachTet&& for_each_tet, 
       if (keep(a, b)) other[static_cast<std::size_t>(fill[a]++)] = b;
     }
   });
+  // Each edge is listed once per tet holding it (about five times): drop
+  // the repeats with a mark per vertex before sorting the few that remain.
   std::vector<Edge> edges;
   edges.reserve(other.size() / 4);
+  std::vector<index_t> seen(nv, kInvalidIndex);
   for (std::size_t a = 0; a < nv; ++a) {
-    auto first = other.begin() + start[a], last = other.begin() + start[a + 1];
+    auto first = other.begin() + start[a], last = first;
+    for (auto it = first; it != other.begin() + start[a + 1]; ++it)
+      if (seen[static_cast<std::size_t>(*it)] != static_cast<index_t>(a)) {
+        seen[static_cast<std::size_t>(*it)] = static_cast<index_t>(a);
+        *last++ = *it;
+      }
     std::sort(first, last);
-    for (auto it = first; it != last; ++it)
-      if (it == first || *it != *(it - 1)) edges.emplace_back(static_cast<index_t>(a), *it);
+    for (auto it = first; it != last; ++it) edges.emplace_back(static_cast<index_t>(a), *it);
   }
   return edges;
 }

@@ -10,7 +10,7 @@
 // (thesis Fig. 2.53), the slab read from the part's JSON (boss_block: z 20..35).
 //
 //   build/bin/bench_improve [--runs=3] [--peer-runs=1] [--factors=1.6,3] [--part=PATH]
-//                           [--no-peers] [--no-femorph] [--tetgen=SWITCHES,...]
+//                           [--no-peers] [--no-femorph] [--tetgen=SWITCHES,...] [--save=DIR]
 //
 // Every output is measured by the same code (Core/quality): tets, minimum and
 // mean stretch (Eq. 1.1), minimum dihedral angle, inverted tets, the
@@ -26,7 +26,7 @@
 // they are slow) and their own optimizer time is what the ratio peer/FM
 // (peer time over FEMorph's) uses (Gmsh:
 // the optimize call only; TetGen: the whole process, reading and writing its
-// files included).
+// files included). --save=DIR writes FEMorph's output, improved_x<factor>.vtu.
 #include "vtkFEMorphImprove.h"
 #include "vtkFEMorphSegment.h"
 
@@ -43,6 +43,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkXMLUnstructuredGridReader.h"
+#include "vtkXMLUnstructuredGridWriter.h"
 #include "vtk_nlohmannjson.h"
 #include VTK_NLOHMANN_JSON(json.hpp)
 
@@ -509,7 +510,7 @@ int main(int argc, char** argv) {
   int runs = 3, peer_runs = 1;
   bool peers = true, femorph_on = true;
   std::vector<double> factors = {1.6, 3.0};
-  std::string part;
+  std::string part, save_dir;
   // TetGen 1.5 optimises a reconstructed mesh (-r) only with -q: -q100 sets a
   // radius-edge bound no tet violates, so it runs the optimizer alone.
   std::vector<std::string> tetgen_switches = {"-rzq100O9/7YQ", "-rzq100O9/7o/130YQ", "-rzqO9/7YQ"};
@@ -519,6 +520,7 @@ int main(int argc, char** argv) {
     else if (std::strcmp(argv[i], "--no-peers") == 0) peers = false;
     else if (std::strcmp(argv[i], "--no-femorph") == 0) femorph_on = false;
     else if (std::strncmp(argv[i], "--part=", 7) == 0) part = argv[i] + 7;
+    else if (std::strncmp(argv[i], "--save=", 7) == 0) save_dir = argv[i] + 7;
     else if (std::strncmp(argv[i], "--tetgen=", 9) == 0) {
       tetgen_switches.clear();
       std::stringstream s(argv[i] + 9);
@@ -532,7 +534,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: %s [--runs=3] [--peer-runs=1] [--factors=1.6,3] [--part=PATH] [--no-peers] "
-                   "[--no-femorph] [--tetgen=SWITCHES,...]\n",
+                   "[--no-femorph] [--tetgen=SWITCHES,...] [--save=DIR]\n",
                    argv[0]);
       return 2;
     }
@@ -629,6 +631,15 @@ int main(int argc, char** argv) {
         improved = improve->GetOutput();
       }
       femorph_s = median(times);
+      if (!save_dir.empty()) {  // the improved mesh, to look at its worst tets
+        std::filesystem::create_directories(save_dir);
+        char name[64];
+        std::snprintf(name, sizeof name, "/improved_x%.1f.vtu", factor);
+        vtkNew<vtkXMLUnstructuredGridWriter> writer;
+        writer->SetFileName((save_dir + name).c_str());
+        writer->SetInputData(improved);
+        writer->Write();
+      }
       fm = measure(to_mesh(improved), boundary);
       vtkDataArray* density = improved->GetFieldData()->GetArray("ImproveDensityError");
       std::printf(

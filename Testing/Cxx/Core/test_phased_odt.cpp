@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <set>
@@ -186,6 +187,58 @@ TEST(PhasedOdt, AbortLeavesAValidMesh) {
   ASSERT_TRUE(mesh.check_consistency().ok);
   const CompactMesh out = mesh.compact();
   EXPECT_TRUE(check_validity(out.points, out.tets).ok());
+}
+
+// A region without a fit (the top face z = 1 of the cube, declared Unknown)
+// whose surface vertices were moved along it: with move_unfitted_regions
+// they move again, on the region's triangles as given, and the tets on that
+// face get better than when they stay; the face stays exactly where it was.
+TEST(PhasedOdt, UnfittedRegionVerticesMoveOnTheirTriangles) {
+  const testing::TestMesh m = testing::make_cube_mesh(8, 0.1, 5);
+  TetMesh jittered = build(m);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::size_t top = 0;
+  for (index_t v = 0; v < jittered.vertex_slots(); ++v) {
+    const Vec3 p = jittered.point(v);
+    if (jittered.vertex_class(v) != VertexClass::Surface || p.z() != 1) continue;
+    ++top;
+    jittered.move_vertex(v, p + Vec3(0.05 * u(rng), 0.05 * u(rng), 0));  // 40% of the edge
+  }
+  ASSERT_GT(top, 30u);
+  BoundaryGeometry geometry = cube_geometry();
+  geometry.regions[5].type = SurfaceType::Unknown;  // z = 1
+  double min_top[2] = {0, 0};
+  for (const bool move : {false, true}) {
+    TetMesh mesh = jittered;
+    PhasedOdtOptions options;
+    options.move_unfitted_regions = move;
+    phased_odt(mesh, geometry, PhasedOdtTarget(), options);
+    const CompactMesh out = mesh.compact();
+    EXPECT_TRUE(check_validity(out.points, out.tets).ok());
+    EXPECT_NEAR(measure(out).volume, 1.0, 1e-12);
+    min_top[move] = std::numeric_limits<double>::infinity();
+    std::size_t moved = 0;
+    for (const Tet& t : out.tets) {
+      bool on_top = false;
+      for (const index_t v : t) on_top = on_top || out.points[v].z() == 1;
+      if (on_top)
+        min_top[move] = std::min(min_top[move], tet_stretch(out.points[t[0]], out.points[t[1]], out.points[t[2]],
+                                                            out.points[t[3]]));
+    }
+    for (index_t v = 0; v < jittered.vertex_slots(); ++v)
+      if (jittered.vertex_class(v) == VertexClass::Surface && jittered.point(v).z() == 1 && mesh.vertex_alive(v)) {
+        EXPECT_EQ(mesh.point(v).z(), 1.0);  // exactly on the kept triangles
+        moved += mesh.point(v) != jittered.point(v);
+      }
+    if (move)
+      EXPECT_GT(moved, top / 2);
+    else
+      EXPECT_EQ(moved, 0u);
+  }
+  std::printf("tets on the unfitted face: min stretch %.3f kept, %.3f moved\n", min_top[0], min_top[1]);
+  EXPECT_GT(min_top[1], min_top[0] + 0.05);
+  EXPECT_GE(min_top[1], 0.3);
 }
 
 // Accuracy control (2.6.4) on the annulus: asked for half the chord error

@@ -752,6 +752,7 @@ TEST(Improve, XmlDefaultsEqualCxxDefaults)
     { "SetDensityControl", flag(d->GetDensityControl()) },
     { "SetAccuracyControl", flag(d->GetAccuracyControl()) },
     { "SetFlips", flag(d->GetFlips()) },
+    { "SetMoveUnfittedRegions", flag(d->GetMoveUnfittedRegions()) },
     { "SetOdtIterations",
       { double(d->GetOdtIterations()), double(d->GetOdtIterationsMinValue()),
         double(d->GetOdtIterationsMaxValue()) } },
