@@ -58,7 +58,9 @@ SurfaceFlipStats flip_surface_edges(TetMesh& mesh, const BoundaryGeometry& geome
         if (!mesh.is_boundary_face(t, f)) continue;
         const index_t region = mesh.face_region(t, f);
         const SurfacePrimitive* surface = geometry.region(region);
-        if (!surface) continue;  // unfitted: a flip would change its shape
+        // Unfitted regions only with kept triangles, and only nearly flat
+        // pairs (below): a flip changes their shape.
+        if (!surface && !geometry.discrete_region(region)) continue;
         const Tet& T = mesh.tet(t);
         const index_t u[3] = {T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]};
         for (int e = 0; e < 3; ++e) {
@@ -86,6 +88,14 @@ SurfaceFlipStats flip_surface_edges(TetMesh& mesh, const BoundaryGeometry& geome
           const Vec3 n_adc = (pd - pa).cross(pc - pa), n_bcd = (pc - pb).cross(pd - pb);
           if (!(n_adc.dot(n_abc) > 0 && n_adc.dot(n_bad) > 0 && n_bcd.dot(n_abc) > 0 && n_bcd.dot(n_bad) > 0))
             continue;
+          // An unfitted region keeps its shape within max_deviation: the
+          // distance between the lines (a, b) and (c, d), how far the new
+          // pair of triangles is from the old one.
+          if (!surface) {
+            const Vec3 n = (pb - pa).cross(pd - pc);
+            const double length = std::max((pb - pa).norm(), (pd - pc).norm());
+            if (!(std::abs((pc - pa).dot(n)) <= options.max_deviation * length * n.norm())) continue;
+          }
           // Tets of the flip (split at the midpoint m, m collapsed onto c):
           // each ring tet without c becomes two, with b resp. a replaced by c.
           double before = std::numeric_limits<double>::infinity(), after = before;
@@ -101,7 +111,7 @@ SurfaceFlipStats flip_surface_edges(TetMesh& mesh, const BoundaryGeometry& geome
               after = std::min(after, tet_stretch(y[0], y[1], y[2], y[3]));
             }
           }
-          const bool ok = surface->type == SurfaceType::Plane
+          const bool ok = surface && surface->type == SurfaceType::Plane
                               ? after >= std::min(before, options.min_stretch)
                               : after >= options.min_stretch && after >= before;
           if (ok && mesh.flip_surface_edge(a, b, t) == OpStatus::Ok) {
