@@ -11,7 +11,9 @@
  * (2.6.3), shape approximation accuracy control (2.6.4), ODT smoothing
  * (2.6.5) -- runs on the boundary curves, the surface triangles and the
  * tetrahedra in that order; boundary vertices stay on the fitted surfaces
- * and curves of the segmentation. The algorithm is femorph_core's
+ * and curves of the segmentation, and the surface vertices of a region no
+ * surface fits on that region's input triangles (MoveUnfittedRegions). The
+ * algorithm is femorph_core's
  * phased_odt() (Core/improve/phased_odt.h).
  *
  * Input 0 (`Input`): the mesh to improve, VTK_TETRA cells only, with the

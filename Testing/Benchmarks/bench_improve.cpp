@@ -30,6 +30,7 @@
 #include "vtkFEMorphImprove.h"
 #include "vtkFEMorphSegment.h"
 
+#include "geometry/discrete_surface.h"
 #include "quality/check_validity.h"
 #include "quality/tet_quality.h"
 
@@ -168,104 +169,20 @@ class BoundaryPoints {
   std::map<std::array<long, 3>, std::vector<Vec3>> cells_;
 };
 
-/// Distance from points to a triangulated surface: triangles bucketed in a
-/// uniform grid, exact point-triangle distance, cells searched in growing
-/// shells until no unvisited cell can hold a closer triangle.
+/// Distance from points to a triangulated surface (femorph::DiscreteSurface:
+/// a uniform grid searched in growing shells, exact point-triangle distance).
 class SurfaceDistance {
  public:
-  SurfaceDistance(const Mesh& m, const std::vector<std::array<femorph::index_t, 3>>& faces) : points_(m.points) {
-    triangles_ = faces;
-    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    double edge = 0;
-    for (const auto& f : faces)
-      for (int k = 0; k < 3; ++k) {
-        lo = lo.cwiseMin(points_[f[k]]), hi = hi.cwiseMax(points_[f[k]]);
-        edge += (points_[f[k]] - points_[f[(k + 1) % 3]]).norm();
-      }
-    edge /= std::max<std::size_t>(1, 3 * faces.size());
-    cell_ = std::max(2 * edge, 1e-12);
-    // At most about 8M cells.
-    while (((hi - lo) / cell_).prod() > 8e6) cell_ *= 1.5;
-    lo_ = lo;
-    for (int a = 0; a < 3; ++a) dims_[a] = std::max(1L, static_cast<long>(std::ceil((hi[a] - lo[a]) / cell_)) + 1);
-    std::vector<std::size_t> count(static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]) + 1, 0);
-    auto each_cell = [&](std::size_t t, auto&& fn) {
-      Vec3 a = points_[triangles_[t][0]], b = a;
-      for (int k = 1; k < 3; ++k) a = a.cwiseMin(points_[triangles_[t][k]]), b = b.cwiseMax(points_[triangles_[t][k]]);
-      const auto c0 = cell_of(a), c1 = cell_of(b);
-      for (long z = c0[2]; z <= c1[2]; ++z)
-        for (long y = c0[1]; y <= c1[1]; ++y)
-          for (long x = c0[0]; x <= c1[0]; ++x) fn(static_cast<std::size_t>((z * dims_[1] + y) * dims_[0] + x));
-    };
-    for (std::size_t t = 0; t < triangles_.size(); ++t) each_cell(t, [&](std::size_t c) { ++count[c + 1]; });
-    for (std::size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
-    offsets_ = count;
-    items_.resize(count.back());
-    for (std::size_t t = 0; t < triangles_.size(); ++t)
-      each_cell(t, [&](std::size_t c) { items_[count[c]++] = static_cast<femorph::index_t>(t); });
+  SurfaceDistance(const Mesh& m, const std::vector<std::array<femorph::index_t, 3>>& faces) {
+    std::vector<std::array<Vec3, 3>> triangles;
+    triangles.reserve(faces.size());
+    for (const auto& f : faces) triangles.push_back({m.points[f[0]], m.points[f[1]], m.points[f[2]]});
+    surface_.build(std::move(triangles));
   }
-
-  double distance(const Vec3& p) const {
-    const auto c = cell_of(p);
-    // Points outside the grid: start from the nearest cell, and the shells
-    // must reach across the whole grid.
-    long max_r = 0;
-    for (int a = 0; a < 3; ++a) max_r = std::max({max_r, c[a], dims_[a] - 1 - c[a]});
-    const Vec3 q = lo_ + cell_ * Vec3(c[0], c[1], c[2]);
-    const double outside = (p - (q + 0.5 * cell_ * Vec3::Ones())).cwiseAbs().maxCoeff() - 0.5 * cell_;
-    double best = std::numeric_limits<double>::infinity();
-    for (long r = 0; r <= max_r; ++r) {
-      for (long z = c[2] - r; z <= c[2] + r; ++z)
-        for (long y = c[1] - r; y <= c[1] + r; ++y)
-          for (long x = c[0] - r; x <= c[0] + r; ++x) {
-            if (std::max({std::abs(x - c[0]), std::abs(y - c[1]), std::abs(z - c[2])}) != r) continue;
-            if (x < 0 || y < 0 || z < 0 || x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) continue;
-            const auto cell = static_cast<std::size_t>((z * dims_[1] + y) * dims_[0] + x);
-            for (std::size_t i = offsets_[cell]; i < offsets_[cell + 1]; ++i) {
-              const auto& f = triangles_[static_cast<std::size_t>(items_[i])];
-              best = std::min(best, (p - closest_on_triangle(p, points_[f[0]], points_[f[1]], points_[f[2]])).norm());
-            }
-          }
-      if (best <= r * cell_ + std::max(0.0, outside)) break;
-    }
-    return best;
-  }
+  double distance(const Vec3& p) const { return (surface_.closest_point(p) - p).norm(); }
 
  private:
-  std::array<long, 3> cell_of(const Vec3& p) const {
-    std::array<long, 3> c;
-    for (int a = 0; a < 3; ++a)
-      c[a] = std::clamp(static_cast<long>(std::floor((p[a] - lo_[a]) / cell_)), 0L, dims_[a] - 1);
-    return c;
-  }
-  /// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
-  static Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-    if (d1 <= 0 && d2 <= 0) return a;
-    const Vec3 bp = p - b;
-    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0 && d4 <= d3) return b;
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
-    const Vec3 cp = p - c;
-    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0 && d5 <= d6) return c;
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-    const double denom = 1 / (va + vb + vc);
-    return a + ab * (vb * denom) + ac * (vc * denom);
-  }
-
-  std::vector<Vec3> points_;
-  std::vector<std::array<femorph::index_t, 3>> triangles_;
-  Vec3 lo_ = Vec3::Zero();
-  double cell_ = 1;
-  std::array<long, 3> dims_{{1, 1, 1}};
-  std::vector<std::size_t> offsets_;
-  std::vector<femorph::index_t> items_;
+  femorph::DiscreteSurface surface_;
 };
 
 /// Largest distance of the boundary points of `from` to the surface `to`.
