@@ -184,6 +184,12 @@ void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const P
     wo.vertex_mask = movable_vertices(mesh, options);
     wo.threshold = std::max(wo.threshold, options.quality_floor);
     stats.moved_vertices += optimize_worst_vertices(mesh, wo).improved;
+    // From the second pass on, the tets still below the floor (inner
+    // vertices or not): an interior edge split and its new vertex placed.
+    if (pass > 0) {
+      lo.only_locked = false;
+      stats.splits += split_locked_tets(mesh, lo).splits;
+    }
     if (options.flips) {
       FlipImproveOptions fo;
       fo.vertex_mask = wo.vertex_mask;

@@ -36,10 +36,11 @@ LockedTetStats split_locked_tets(TetMesh& mesh, const LockedTetOptions& options)
   for (index_t t = 0; t < mesh.tet_slots(); ++t) {
     if (!mesh.tet_alive(t)) continue;
     const Tet& T = mesh.tet(t);
-    bool all_boundary = true;
-    for (const index_t v : T) all_boundary = all_boundary && mesh.on_boundary(v) && flagged(v);
+    bool candidate = true;
+    for (const index_t v : T) candidate = candidate && (mesh.on_boundary(v) || !options.only_locked) && flagged(v);
+    if (!candidate) continue;
     const double q = stretch_of(mesh, t);
-    if (all_boundary && q < options.threshold) locked.emplace_back(q, T);
+    if (q < options.threshold) locked.emplace_back(q, T);
   }
   std::sort(locked.begin(), locked.end());
   stats.locked = locked.size();

@@ -19,10 +19,14 @@ struct LockedTetOptions {
   double threshold = 0.3;
   /// Per vertex slot: only edges whose two ends are flagged. Empty: all.
   std::vector<std::uint8_t> vertex_mask;
+  /// Off: every tet below the threshold, not only those without an inner
+  /// vertex (the last resort for tets that smoothing, vertex placement and
+  /// flips left below it).
+  bool only_locked = true;
 };
 
 struct LockedTetStats {
-  std::size_t locked = 0;  ///< tets below the threshold with no inner vertex
+  std::size_t locked = 0;  ///< tets below the threshold with no inner vertex (all with only_locked off)
   std::size_t splits = 0;  ///< interior edges split (and kept)
 };
 

@@ -4,6 +4,7 @@
 #include "improve/improve_tets_by_flips.h"
 #include "improve/improve_volume.h"
 #include "improve/odt_smooth_volume.h"
+#include "improve/split_locked_tets.h"
 #include "io/read_medit_mesh.h"
 #include "mesh/tet_mesh.h"
 #include "quality/check_validity.h"
@@ -147,6 +148,30 @@ TEST(ImproveVolume, FlipsRaiseMinimumOfQueue) {
     min0 = min1;
   }
   expect_valid_and_boundary_fixed(before, m, volume);
+}
+
+// The last resort of the finishing step: interior edges of tets below the
+// threshold split, also when the tet has an inner vertex (only_locked off).
+TEST(ImproveVolume, SplittingTetsBelowThresholdNeverLowersTheMinimum) {
+  double volume = 0, undeformed_mean = 0;
+  TetMesh m = perturbed_cube(&volume, &undeformed_mean);
+  double min0 = 0, min1 = 0;
+  live_stretch_range(m, &min0, nullptr);
+  LockedTetOptions options;
+  options.threshold = 0.3;
+  const LockedTetStats locked_only = split_locked_tets(m, options);
+  options.only_locked = false;
+  const LockedTetStats all = split_locked_tets(m, options);
+  live_stretch_range(m, &min1, nullptr);
+  std::printf("locked %zu (splits %zu), all below 0.3: %zu (splits %zu), min %.4f -> %.4f\n", locked_only.locked,
+              locked_only.splits, all.locked, all.splits, min0, min1);
+  EXPECT_GT(all.locked, locked_only.locked);
+  EXPECT_GT(all.splits, 0u);
+  EXPECT_GE(min1, min0);
+  ASSERT_TRUE(m.check_consistency().ok) << m.check_consistency().message;
+  const CompactMesh out = m.compact();
+  EXPECT_TRUE(check_validity(out.points, out.tets).ok());
+  EXPECT_NEAR(testing::total_volume(out.points, out.tets), volume, 1e-12 * volume);
 }
 
 TEST(ImproveVolume, RestrictionMaskRespected) {
