@@ -84,17 +84,21 @@ double stretch_with(const TetMesh& mesh, index_t t, index_t from, index_t to, in
 /// below the old worst.
 bool below_floor(double new_min, double old_min, double floor) { return new_min < floor && new_min < old_min; }
 
-/// The vertices of the tets of two balls except a and b, sorted: after the
-/// collapse of a and b these are the neighbours of the surviving vertex.
+/// The vertices of the tets of two balls except a and b, each once (in the
+/// order met; `seen` holds one stamp per vertex slot, `stamp` is new per
+/// call): after the collapse of a and b these are the neighbours of the
+/// surviving vertex.
 void ball_vertices(const TetMesh& mesh, const std::vector<index_t>& ball_a, const std::vector<index_t>& ball_b,
-                   index_t a, index_t b, std::vector<index_t>& out) {
+                   index_t a, index_t b, std::vector<std::uint32_t>& seen, std::uint32_t stamp,
+                   std::vector<index_t>& out) {
   out.clear();
   for (const std::vector<index_t>* ball : {&ball_a, &ball_b})
     for (const index_t t : *ball)
       for (const index_t w : mesh.tet(t))
-        if (w != a && w != b) out.push_back(w);
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+        if (w != a && w != b && seen[w] != stamp) {
+          seen[w] = stamp;
+          out.push_back(w);
+        }
 }
 
 enum class Projection { NotNeeded, Moved, Refused };
@@ -192,10 +196,17 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
       heap.push({(mesh.point(edges[i].second) - mesh.point(edges[i].first)).norm(), edges[i].first, edges[i].second});
   std::size_t collapses = 0;
   std::vector<index_t> ball_keep, ball_remove, neighbours;
+  // No vertex is created here, so the stamps' size is fixed.
+  std::vector<std::uint32_t> seen(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  std::uint32_t stamp = 0;
+  HeapEdge previous{-1, kInvalidIndex, kInvalidIndex};
   while (!heap.empty()) {
-    // Step 5: pop the shortest (stale entries: the edge is gone or changed).
+    // Step 5: pop the shortest (stale entries: the edge is gone or changed;
+    // a copy of the entry just handled would find the mesh as it left it).
     const HeapEdge top = heap.top();
     heap.pop();
+    if (top.length == previous.length && top.a == previous.a && top.b == previous.b) continue;
+    previous = top;
     if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
     const index_t hint = mesh.find_edge_tet(top.a, top.b);
     if (hint < 0) continue;
@@ -228,7 +239,7 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
     const int n_candidates = ck == mesh.vertex_class(plan.remove) && ck != VertexClass::Corner ? 3 : 1;
     mesh.vertex_ball(plan.keep, ball_keep);
     mesh.vertex_ball(plan.remove, ball_remove);
-    ball_vertices(mesh, ball_keep, ball_remove, plan.keep, plan.remove, neighbours);
+    ball_vertices(mesh, ball_keep, ball_remove, plan.keep, plan.remove, seen, ++stamp, neighbours);
     // The worst stretch of the tets as they are, computed when a candidate
     // first passes the cheaper long-edge test (most candidates fail it).
     double old_min = std::numeric_limits<double>::quiet_NaN();
