@@ -124,9 +124,15 @@ Vec3 DiscreteSurface::closest_point(const Vec3& p) const {
         }
       }
     }
-    // Cells beyond this shell are at least shell * cell_ away from p's cell.
-    const double reach = shell * cell_;
-    if (best_d2 <= reach * reach) break;
+    // Every triangle with a point closer to p than the block of cells
+    // searched so far (c +- shell) is in one of its cells; sides at the end
+    // of the grid have nothing beyond them.
+    double reach = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; ++i) {
+      if (c[i] - shell > 0) reach = std::min(reach, p[i] - (origin_[i] + (c[i] - shell) * cell_));
+      if (c[i] + shell < dims_[i] - 1) reach = std::min(reach, origin_[i] + (c[i] + shell + 1) * cell_ - p[i]);
+    }
+    if (reach >= 0 && best_d2 <= reach * reach) break;
   }
   return best;
 }

@@ -6,6 +6,7 @@
 #include "mesh/tet_mesh.h"
 
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace femorph {
@@ -29,12 +30,14 @@ bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, i
 /// alpha = 1, halved up to `max_halvings` times. candidate(alpha, &p) gives
 /// v's position for the step alpha (false: none for this alpha); the first
 /// one that passes the quality guard (when `quality_guard`, with
-/// move_keeps_quality(.., floor)) and keeps every tet of the ball positive
+/// move_keeps_quality(.., floor)), then accept(p) (a costlier test, asked
+/// last), and keeps every tet of the ball positive
 /// (TetMesh::move_vertex_in_ball, exact) is taken. `ball` is v's whole ball. Returns the
 /// accepted alpha, 0 when v stayed; *halvings counts the halvings tried.
-template <class Candidate>
+template <class Candidate, class Accept>
 double move_with_step_halving(TetMesh& mesh, const std::vector<index_t>& ball, index_t v, int max_halvings,
-                              bool quality_guard, double floor, Candidate&& candidate, std::size_t* halvings) {
+                              bool quality_guard, double floor, Candidate&& candidate, Accept&& accept,
+                              std::size_t* halvings) {
   const double old_min = quality_guard ? ball_min_stretch(mesh, ball, v, mesh.point(v)) : 0;
   double alpha = 1;
   for (int h = 0; h <= max_halvings; ++h, alpha *= 0.5) {
@@ -42,9 +45,19 @@ double move_with_step_halving(TetMesh& mesh, const std::vector<index_t>& ball, i
     Vec3 p;
     if (!candidate(alpha, &p)) continue;
     if (quality_guard && !move_keeps_quality(mesh, ball, v, p, old_min, floor)) continue;
+    if (!accept(static_cast<const Vec3&>(p))) continue;
     if (mesh.move_vertex_in_ball(v, p, ball) == OpStatus::Ok) return alpha;
   }
   return 0;
+}
+
+/// The same without a last test.
+template <class Candidate>
+double move_with_step_halving(TetMesh& mesh, const std::vector<index_t>& ball, index_t v, int max_halvings,
+                              bool quality_guard, double floor, Candidate&& candidate, std::size_t* halvings) {
+  return move_with_step_halving(
+      mesh, ball, v, max_halvings, quality_guard, floor, std::forward<Candidate>(candidate),
+      [](const Vec3&) { return true; }, halvings);
 }
 
 }  // namespace femorph

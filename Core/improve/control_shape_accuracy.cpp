@@ -73,6 +73,11 @@ bool chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry, 
                          index_t v, const Vec3& p) {
   thread_local std::vector<index_t> ball;
   mesh.vertex_ball(v, ball);
+  return chords_within_error(mesh, geometry, acceptable, v, p, ball);
+}
+
+bool chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry, const std::vector<double>& acceptable,
+                         index_t v, const Vec3& p, const std::vector<index_t>& ball) {
   const Vec3& x = mesh.point(v);
   for (const index_t t : ball) {
     const Tet& T = mesh.tet(t);

@@ -31,6 +31,9 @@ std::vector<double> region_geometric_error(const TetMesh& mesh, const BoundaryGe
 /// quality.
 bool chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry, const std::vector<double>& acceptable,
                          index_t v, const Vec3& p);
+/// The same with v's ball given (every live tet that holds v).
+bool chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry, const std::vector<double>& acceptable,
+                         index_t v, const Vec3& p, const std::vector<index_t>& ball);
 
 struct AccuracyControlOptions {
   /// Restriction to a region: only edges whose two vertices are flagged

@@ -94,9 +94,11 @@ OdtSmoothReport odt_smooth_curves(TetMesh& mesh, const BoundaryGeometry& geometr
                 const Vec3 q = circle ? centre + c.curve->radius *
                                                      (std::cos(alpha * theta) * e1 + std::sin(alpha * theta) * e2)
                                       : Vec3(x + alpha * step);
-                return project_to_constraint(c, q, p) &&
-                       (!options.acceptable_error ||
-                        chords_within_error(mesh, geometry, *options.acceptable_error, v, *p));
+                return project_to_constraint(c, q, p);
+              },
+              [&](const Vec3& p) {
+                return !options.acceptable_error ||
+                       chords_within_error(mesh, geometry, *options.acceptable_error, v, p, ball);
               },
               &report.halvings) > 0;
       const Vec3& p = mesh.point(v);

@@ -295,8 +295,11 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
                   if (old_sign[k] != 0 &&
                       sign(cross2(link2[ring_local[k][0]] - q2, link2[ring_local[k][1]] - q2)) != old_sign[k])
                     return false;  // a ring triangle folds over
+                return true;
+              },
+              [&](const Vec3& p) {
                 return !options.acceptable_error ||
-                       chords_within_error(mesh, geometry, *options.acceptable_error, v, *p);
+                       chords_within_error(mesh, geometry, *options.acceptable_error, v, p, ball);
               },
               &report.halvings) > 0;
       const Vec3& p = mesh.point(v);
