@@ -1,8 +1,9 @@
 """pvbatch test of FEMorph Improve through the plugin, checked with numpy.
 
 Inputs made as issue 5 says, from a Data/ part and from real parts made by
-other people (fandisk from shared/realparts, a Medit mesh; the Gmsh mesh of
-the gearbox shaft STEP file when the Data.MeshRealParts fixture made it):
+other people (fandisk and chamfer from shared/realparts, Medit meshes, also
+as given; the Gmsh meshes of the gearbox shaft and of the Onshape tutorial
+part STEP files when the Data.MeshRealParts fixture made them):
   (a) every inner vertex moved by up to 40% of its mean edge length (a move
       that would invert a tet is skipped, so the input is valid);
   (b) boss_block's boss slab (z 20..35) stretched x1.6 along z, the part
@@ -21,6 +22,7 @@ without the filter or the core:
 
 Usage: pvbatch test_improve.py --plugin FEMorph.so --data Data/boss_block.vtu
          [--realparts DIR] [--shaft build/realparts/welle_gearbox_shaft.vtu]
+         [--onshape build/realparts/onshape_tutorial_part.vtu]
 """
 import argparse
 import os
@@ -154,6 +156,7 @@ def main():
     parser.add_argument("--data", required=True, help="Data/boss_block.vtu")
     parser.add_argument("--realparts", help="folder with fandisk_tet.mesh (optional)")
     parser.add_argument("--shaft", help="Gmsh mesh of welle_gearbox_shaft.step (optional)")
+    parser.add_argument("--onshape", help="Gmsh mesh of onshape_tutorial_part.step (optional)")
     args = parser.parse_args()
     LoadPlugin(args.plugin, remote=False, ns=globals())
 
@@ -171,12 +174,17 @@ def main():
     # except by surface smoothing on its fitted surfaces.
     run("boss_block (a)", grid_from(jitter_inner(p0, t0, 0.4, 1), t0), None, 0.3, undeformed, False)
 
-    if args.realparts and os.path.exists(os.path.join(args.realparts, "fandisk_tet.mesh")):
-        points, tets = read_medit(os.path.join(args.realparts, "fandisk_tet.mesh"))
+    # Real parts (Medit meshes made by others, with their own slivers): as
+    # given, and (a).
+    for part, seed in (("fandisk_tet.mesh", 2), ("chamfer_tet.mesh", 5)):
+        path = os.path.join(args.realparts or "", part)
+        if not args.realparts or not os.path.exists(path):
+            print("  %s: skipped (no --realparts)" % part)
+            continue
+        points, tets = read_medit(path)
         mean = reference_quality(points, tets)["Stretch"].mean()
-        run("fandisk (a)", grid_from(jitter_inner(points, tets, 0.4, 2), tets), None, 0.3, mean, False)
-    else:
-        print("  fandisk: skipped (no --realparts)")
+        run(part + " as given", grid_from(points, tets), None, 0.3, mean, False)
+        run(part + " (a)", grid_from(jitter_inner(points, tets, 0.4, seed), tets), None, 0.3, mean, False)
     if args.shaft and os.path.exists(args.shaft):
         shaft = read_vtu(args.shaft)
         ps, ts = arrays(shaft)
@@ -184,6 +192,16 @@ def main():
         run("welle_gearbox_shaft (a)", grid_from(jitter_inner(ps, ts, 0.4, 3), ts), None, 0.3, mean, False)
     else:
         print("  welle_gearbox_shaft: skipped (not meshed)")
+    if args.onshape and os.path.exists(args.onshape):
+        # Known limit: a face strip 0.2-0.3 mm wide between two curves, in a
+        # Gmsh mesh of 2-4 mm, holds tets flat across it; only a finer
+        # boundary there would help. Asserted: better than Gmsh's own mesh.
+        part = read_vtu(args.onshape)
+        po, to = arrays(part)
+        quality = reference_quality(po, to)["Stretch"]
+        run("onshape_tutorial_part as given", part, None, quality.min() + 0.03, quality.mean(), False)
+    else:
+        print("  onshape_tutorial_part: skipped (not meshed)")
     print("ok")
 
 
