@@ -153,7 +153,7 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
       new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, top.b, m));
     }
     index_t v = kInvalidIndex;
-    if (below_floor(new_min, old_min, options.min_stretch) ||
+    if (below_floor(new_min, options.split_relative_floor * old_min, options.min_stretch) ||
         mesh.split_edge(top.a, top.b, nullptr, &v, ring.front()) != OpStatus::Ok) {
       if (stats) ++stats->refused_splits;
       continue;
