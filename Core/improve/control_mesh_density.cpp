@@ -129,6 +129,8 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
   for (std::size_t i = 0; i < edges.size(); ++i)
     if (scaled[i] >= beta1) heap.push({(mesh.point(edges[i].second) - mesh.point(edges[i].first)).norm(), edges[i].first, edges[i].second});
   std::size_t splits = 0;
+  std::vector<char> made;  // vertices this pass created
+  const auto made_here = [&made](index_t w) { return static_cast<std::size_t>(w) < made.size() && made[w]; };
   std::vector<index_t> ring, ball;
   // Steps 2-3: split the longest until the heap is empty.
   while (!heap.empty()) {
@@ -172,6 +174,21 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
       if (p == Projection::Moved && stats) ++stats->projections;
     }
     ++splits;
+    // Beyond the thesis: the halves of an edge the pass started with go back
+    // into the heap when still long (an edge stretched x3 needs two halvings;
+    // left to the next loop, the collapses in between undo part of the
+    // first). Not their halves: without smoothing in between, repeated
+    // halving of a fan packs midpoints too closely (a cube stretched x12:
+    // density error 0.35 with one level, 0.48 with all).
+    const bool original_edge = !made_here(top.a) && !made_here(top.b);
+    if (static_cast<std::size_t>(v) >= made.size()) made.resize(static_cast<std::size_t>(v) + 1, 0);
+    made[v] = 1;
+    if (options.resplit_halves && original_edge)
+      for (const index_t end : {top.a, top.b}) {
+        double half;
+        if (scaled_length(mesh, grid, options.lookup, end, v, &half) >= beta1)
+          heap.push({half, std::min(end, v), std::max(end, v)});
+      }
     if (!mask.empty()) {
       if (static_cast<std::size_t>(v) >= mask.size()) mask.resize(static_cast<std::size_t>(v) + 1, 0);
       mask[v] = 1;
@@ -240,6 +257,8 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
     mesh.vertex_ball(plan.keep, ball_keep);
     mesh.vertex_ball(plan.remove, ball_remove);
     ball_vertices(mesh, ball_keep, ball_remove, plan.keep, plan.remove, seen, ++stamp, neighbours);
+    const bool boundary_collapse =
+        options.accept_boundary_collapse && (mesh.on_boundary(plan.keep) || mesh.on_boundary(plan.remove));
     // The worst stretch of the tets as they are, computed when a candidate
     // first passes the cheaper long-edge test (most candidates fail it).
     double old_min = std::numeric_limits<double>::quiet_NaN();
@@ -273,6 +292,9 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
           new_min = std::min(new_min, stretch_with(mesh, t, plan.remove, plan.keep, plan.keep, x));
         }
       if (below_floor(new_min, old_min, options.min_stretch) || new_min <= best_min) continue;
+      if (boundary_collapse &&
+          !options.accept_boundary_collapse(plan.keep, plan.remove, x, ball_keep, ball_remove))
+        continue;
       best = c;
       best_min = new_min;
     }

@@ -5,7 +5,8 @@
 // midpoint c_e of edge e and the density thresholds beta1, beta2:
 //   Steps 1-3 (split_long_edges): edges with L(e) >= beta1 / rho_GC(c_e) go
 //     into a max-heap by length; the longest is popped and split at its
-//     midpoint until the heap is empty.
+//     midpoint until the heap is empty (beyond the thesis, a half of an edge
+//     the pass started with is pushed again while still long).
 //   Steps 4-7 (collapse_short_edges): edges with L(e) <= beta2 / rho_GC(c_e)
 //     go into a min-heap; the shortest is popped and collapsed (rules of
 //     Fig. 2.37, collapse_edge_by_rules); the edges of the surviving vertex
@@ -54,6 +55,11 @@ struct DensityControlOptions {
   /// leaves the region coarse for good (a boss top stretched x3, edges up to
   /// 8 times their target, stayed at stretch 0.066 with 1.0).
   double split_relative_floor = 0.5;
+  /// Beyond the thesis: a split pass pushes the halves of the edges it
+  /// started with back into its heap while they are still long (one pass
+  /// then halves an edge twice, as a x3 stretch needs). false: the thesis'
+  /// steps 1-3, each edge halved once per pass.
+  bool resplit_halves = true;
   /// Rounds of split pass + collapse pass.
   int max_iterations = 20;
   /// How rho_GC is read (the thesis: Cell).
@@ -64,6 +70,12 @@ struct DensityControlOptions {
   /// result keeps every tet valid and above the stretch floor. Empty: none
   /// (right for planar regions).
   std::function<Vec3(index_t vertex, const Vec3& position)> project;
+  /// Extra test of a collapse of a boundary vertex (keep, remove; keep
+  /// placed at x; the balls of both ends): false refuses that position.
+  /// Phased ODT uses it for the chord error (2.6.4). Empty: none.
+  std::function<bool(index_t keep, index_t remove, const Vec3& x, const std::vector<index_t>& ball_keep,
+                     const std::vector<index_t>& ball_remove)>
+      accept_boundary_collapse;
   /// Restriction to a region: one flag per vertex slot; only edges whose two
   /// vertices are flagged are split or collapsed (vertices a split creates
   /// inherit the flag). Empty: every edge.

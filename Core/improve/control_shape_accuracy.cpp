@@ -97,6 +97,31 @@ bool chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry, 
   return true;
 }
 
+bool collapse_chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry,
+                                  const std::vector<double>& acceptable, index_t keep, index_t remove, const Vec3& x,
+                                  const std::vector<index_t>& ball_keep, const std::vector<index_t>& ball_remove) {
+  for (const std::vector<index_t>* ball : {&ball_keep, &ball_remove})
+    for (const index_t t : *ball) {
+      const Tet& T = mesh.tet(t);
+      const int lk = mesh.local_index(t, keep), lr = mesh.local_index(t, remove);
+      if (lk >= 0 && lr >= 0) continue;  // vanishes
+      const int lv = lk >= 0 ? lk : lr;   // the end this tet holds
+      for (int f = 0; f < 4; ++f) {
+        if (f == lv || !mesh.is_boundary_face(t, f)) continue;
+        const index_t r = mesh.face_region(t, f);
+        const SurfacePrimitive* s = geometry.region(r);
+        if (!curved(s) || static_cast<std::size_t>(r) >= acceptable.size() || !(acceptable[r] > 0)) continue;
+        for (int k = 0; k < 4; ++k) {
+          if (k == f || k == lv) continue;
+          const Vec3& w = mesh.point(T[k]);
+          const double after = distance(*s, 0.5 * (x + w));
+          if (after > acceptable[r] && after > distance(*s, 0.5 * (mesh.point(T[lv]) + w))) return false;
+        }
+      }
+    }
+  return true;
+}
+
 AccuracyControlStats control_shape_accuracy(TetMesh& mesh, const BoundaryGeometry& geometry,
                                             const std::vector<double>& acceptable,
                                             const AccuracyControlOptions& options) {

@@ -34,6 +34,15 @@ bool chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry, 
 /// The same with v's ball given (every live tet that holds v).
 bool chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry, const std::vector<double>& acceptable,
                          index_t v, const Vec3& p, const std::vector<index_t>& ball);
+/// The same for the collapse of edge (keep, remove) with keep placed at x
+/// (balls of both ends given): the boundary edges the surviving vertex will
+/// have on curved regions stay within `acceptable`, or at least no worse than
+/// the edge each replaces. Mesh density control (2.6.3) collapses boundary
+/// edges; a chord it lengthens past the error may be one the accuracy
+/// control cannot split again without a poor tet.
+bool collapse_chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry,
+                                  const std::vector<double>& acceptable, index_t keep, index_t remove, const Vec3& x,
+                                  const std::vector<index_t>& ball_keep, const std::vector<index_t>& ball_remove);
 
 struct AccuracyControlOptions {
   /// Restriction to a region: only edges whose two vertices are flagged

@@ -2,6 +2,7 @@
 #include "improve/phased_odt.h"
 
 #include "improve/control_mesh_density.h"
+#include "improve/control_shape_accuracy.h"
 #include "improve/flip_surface_edges.h"
 #include "improve/odt_smooth_curves.h"
 #include "improve/odt_smooth_surface.h"
@@ -291,6 +292,15 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         dco.max_iterations = 1;
         dco.measure_error = false;
         dco.project = project;
+        // Beyond the thesis: a boundary collapse may not lengthen a chord
+        // past its region's acceptable error (2.6.4).
+        if (options.accuracy_control && !target.acceptable_error.empty())
+          dco.accept_boundary_collapse = [&](index_t keep, index_t remove, const Vec3& x,
+                                             const std::vector<index_t>& ball_keep,
+                                             const std::vector<index_t>& ball_remove) {
+            return collapse_chords_within_error(mesh, geometry, target.acceptable_error, keep, remove, x, ball_keep,
+                                                ball_remove);
+          };
         dco.vertex_mask = phase_vertices(mesh, phase, movable);
         const DensityControlStats dcs = control_mesh_density(mesh, *target.density, dco);
         stats.splits += dcs.splits;

@@ -3,6 +3,7 @@
 // shape approximation accuracy control (2.6.4) and the curve vertex lists
 // traced after it on an annulus; the edge enumeration.
 #include "improve/boundary_geometry.h"
+#include "improve/control_mesh_density.h"
 #include "improve/control_shape_accuracy.h"
 #include "improve/mesh_density.h"
 #include "improve/phased_odt.h"
@@ -243,6 +244,52 @@ TEST(PhasedOdt, UnfittedRegionVerticesMoveOnTheirTriangles) {
   std::printf("tets on the unfitted face: min stretch %.3f kept, %.3f moved\n", min_top[0], min_top[1]);
   EXPECT_GT(min_top[1], min_top[0] + 0.05);
   EXPECT_GE(min_top[1], 0.3);
+}
+
+// Mesh density control asked for a mesh twice as coarse collapses cylinder
+// edges and lengthens their chords; with the chord test of Phased ODT
+// (collapse_chords_within_error) no cylinder ends beyond its acceptable error
+// (here its error as given), without it they do.
+TEST(ShapeAccuracy, DensityCollapsesKeepTheChordError) {
+  const Annulus a = make_annulus();
+  const GridMesh gm = make_grid_mesh(a.grid);
+  const std::vector<double> given = region_geometric_error(build(gm.mesh), a.geometry);
+  const std::vector<double> acceptable = {given[0], given[1], std::nan(""), std::nan("")};
+  const double target = 0.5 / mean_edge_length(gm.mesh.points, gm.mesh.tets);
+  DensityGrid grid;
+  ASSERT_TRUE(grid.build(gm.mesh.points, gm.mesh.tets, std::vector<double>(gm.mesh.points.size(), target),
+                         0.25 / target));
+  const auto run = [&](bool chord_test, std::size_t* collapses) {
+    TetMesh mesh = build(gm.mesh);
+    DensityControlOptions options;
+    options.max_iterations = 4;
+    options.project = [&](index_t v, const Vec3& p) {
+      Vec3 q;
+      const VertexConstraint c = vertex_constraint(mesh, a.geometry, v);
+      return (c.kind == VertexConstraint::Surface || c.kind == VertexConstraint::Curve) &&
+                     project_to_constraint(c, p, &q)
+                 ? q
+                 : p;
+    };
+    if (chord_test)
+      options.accept_boundary_collapse = [&](index_t keep, index_t remove, const Vec3& x,
+                                             const std::vector<index_t>& bk, const std::vector<index_t>& br) {
+        return collapse_chords_within_error(mesh, a.geometry, acceptable, keep, remove, x, bk, br);
+      };
+    *collapses = control_mesh_density(mesh, grid, options).collapses;
+    const CompactMesh out = mesh.compact();
+    EXPECT_TRUE(check_validity(out.points, out.tets).ok());
+    return region_geometric_error(mesh, a.geometry);
+  };
+  std::size_t with_test = 0, without_test = 0;
+  const std::vector<double> kept = run(true, &with_test), lost = run(false, &without_test);
+  std::printf("chord error given %.4f / %.4f; density collapses with the chord test %zu: %.4f / %.4f; without %zu: "
+              "%.4f / %.4f\n",
+              given[0], given[1], with_test, kept[0], kept[1], without_test, lost[0], lost[1]);
+  EXPECT_GT(with_test, 0u);
+  EXPECT_LE(kept[0], acceptable[0]);
+  EXPECT_LE(kept[1], acceptable[1]);
+  EXPECT_GT(std::max(lost[0] / acceptable[0], lost[1] / acceptable[1]), 1.2);
 }
 
 // Accuracy control (2.6.4) on the annulus: asked for half the chord error
