@@ -137,10 +137,12 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
     const HeapEdge top = heap.top();
     heap.pop();
     if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
-    bool boundary = false;
-    if (!mesh.edge_ring(top.a, top.b, ring, &boundary)) continue;
+    // The cheap length test before the ring walk (either failing drops the
+    // entry).
     double length;
     if (scaled_length(mesh, grid, options.lookup, top.a, top.b, &length) < beta1) continue;
+    bool boundary = false;
+    if (!mesh.edge_ring(top.a, top.b, ring, &boundary)) continue;
     if (length != top.length) {  // a projection moved an end: requeue
       heap.push({length, top.a, top.b});
       continue;
@@ -225,10 +227,12 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
     if (top.length == previous.length && top.a == previous.a && top.b == previous.b) continue;
     previous = top;
     if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
-    const index_t hint = mesh.find_edge_tet(top.a, top.b);
-    if (hint < 0) continue;
+    // The cheap length test before the edge search (either failing drops
+    // the entry).
     double length;
     if (!qualifies(top.a, top.b, &length)) continue;
+    const index_t hint = mesh.find_edge_tet(top.a, top.b);
+    if (hint < 0) continue;
     if (length != top.length) {
       heap.push({length, top.a, top.b});
       continue;
