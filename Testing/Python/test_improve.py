@@ -6,9 +6,10 @@ as given; the Gmsh meshes of the gearbox shaft and of the Onshape tutorial
 part STEP files when the Data.MeshRealParts fixture made them):
   (a) every inner vertex moved by up to 40% of its mean edge length (a move
       that would invert a tet is skipped, so the input is valid);
-  (b) boss_block's boss slab (z 20..35) stretched x1.6 along z, and the
-      gearbox shaft's r = 15 mm journal (x 32..48) stretched x1.6 and x3
-      along the axis, the part before the stretch as the Reference.
+  (b) boss_block's boss slab (z 20..35) stretched x1.6 along z (also x0.5
+      and x5), and the gearbox shaft's r = 15 mm journal (x 32..48)
+      stretched x1.6 and x3 along the axis, the part before the stretch as
+      the Reference.
 For each: FEMorph Segment, then FEMorph Improve (defaults). Checked here,
 without the filter or the core:
   - every tet positive (numpy signed volumes), each interior face shared by
@@ -176,6 +177,12 @@ def main():
     stretched = p0.copy()
     stretched[:, 2] = np.where(z <= 20, z, np.where(z >= 35, z + 0.6 * 15, 20 + 1.6 * (z - 20)))
     run("boss_block (b) x1.6", grid_from(stretched, t0), boss, 0.2, undeformed, False)
+    # Beyond the cases: the boss made lower (x0.5: the density
+    # control collapses) and much higher (x5: edges 5 times their target).
+    for factor in (0.5, 5.0):
+        moved = p0.copy()
+        moved[:, 2] = np.where(z <= 20, z, np.where(z >= 35, z + (factor - 1) * 15, 20 + factor * (z - 20)))
+        run("boss_block (b) x%.1f" % factor, grid_from(moved, t0), boss, 0.2, undeformed, False)
 
     # (a) inner vertices moved randomly: the boundary's shape is not touched
     # except by surface smoothing on its fitted surfaces.
