@@ -39,6 +39,28 @@ bool masked(const std::vector<std::uint8_t>& mask, index_t v) {
   return mask.empty() || static_cast<std::size_t>(v) >= mask.size() || mask[v];
 }
 
+/// The chords of tet t's boundary faces on curved regions that hold its
+/// local vertex lv, with that vertex at p: each within its region's
+/// acceptable error or no longer than it was.
+bool face_chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry,
+                              const std::vector<double>& acceptable, index_t t, int lv, const Vec3& p) {
+  const Tet& T = mesh.tet(t);
+  const Vec3& x = mesh.point(T[lv]);
+  for (int f = 0; f < 4; ++f) {
+    if (f == lv || !mesh.is_boundary_face(t, f)) continue;
+    const index_t r = mesh.face_region(t, f);
+    const SurfacePrimitive* s = geometry.region(r);
+    if (!curved(s) || r < 0 || static_cast<std::size_t>(r) >= acceptable.size() || !(acceptable[r] > 0)) continue;
+    for (int k = 0; k < 4; ++k) {
+      if (k == f || k == lv) continue;
+      const Vec3& w = mesh.point(T[k]);
+      const double after = distance(*s, 0.5 * (p + w));
+      if (after > acceptable[r] && after > distance(*s, 0.5 * (x + w))) return false;
+    }
+  }
+  return true;
+}
+
 struct Entry {
   double error;
   index_t a, b, region;
@@ -78,22 +100,8 @@ bool chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry, 
 
 bool chords_within_error(const TetMesh& mesh, const BoundaryGeometry& geometry, const std::vector<double>& acceptable,
                          index_t v, const Vec3& p, const std::vector<index_t>& ball) {
-  const Vec3& x = mesh.point(v);
-  for (const index_t t : ball) {
-    const Tet& T = mesh.tet(t);
-    for (int f = 0; f < 4; ++f) {
-      if (T[f] == v || !mesh.is_boundary_face(t, f)) continue;
-      const index_t r = mesh.face_region(t, f);
-      const SurfacePrimitive* s = geometry.region(r);
-      if (!curved(s) || r < 0 || static_cast<std::size_t>(r) >= acceptable.size() || !(acceptable[r] > 0)) continue;
-      for (int k = 0; k < 4; ++k) {
-        const index_t w = T[k];
-        if (k == f || w == v) continue;
-        const double after = distance(*s, 0.5 * (p + mesh.point(w)));
-        if (after > acceptable[r] && after > distance(*s, 0.5 * (x + mesh.point(w)))) return false;
-      }
-    }
-  }
+  for (const index_t t : ball)
+    if (!face_chords_within_error(mesh, geometry, acceptable, t, mesh.local_index(t, v), p)) return false;
   return true;
 }
 
@@ -102,22 +110,9 @@ bool collapse_chords_within_error(const TetMesh& mesh, const BoundaryGeometry& g
                                   const std::vector<index_t>& ball_keep, const std::vector<index_t>& ball_remove) {
   for (const std::vector<index_t>* ball : {&ball_keep, &ball_remove})
     for (const index_t t : *ball) {
-      const Tet& T = mesh.tet(t);
       const int lk = mesh.local_index(t, keep), lr = mesh.local_index(t, remove);
       if (lk >= 0 && lr >= 0) continue;  // vanishes
-      const int lv = lk >= 0 ? lk : lr;   // the end this tet holds
-      for (int f = 0; f < 4; ++f) {
-        if (f == lv || !mesh.is_boundary_face(t, f)) continue;
-        const index_t r = mesh.face_region(t, f);
-        const SurfacePrimitive* s = geometry.region(r);
-        if (!curved(s) || static_cast<std::size_t>(r) >= acceptable.size() || !(acceptable[r] > 0)) continue;
-        for (int k = 0; k < 4; ++k) {
-          if (k == f || k == lv) continue;
-          const Vec3& w = mesh.point(T[k]);
-          const double after = distance(*s, 0.5 * (x + w));
-          if (after > acceptable[r] && after > distance(*s, 0.5 * (mesh.point(T[lv]) + w))) return false;
-        }
-      }
+      if (!face_chords_within_error(mesh, geometry, acceptable, t, lk >= 0 ? lk : lr, x)) return false;
     }
   return true;
 }

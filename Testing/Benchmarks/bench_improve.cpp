@@ -515,8 +515,8 @@ int main(int argc, char** argv) {
               und.min_dihedral);
   {
     // Eq. 2.35 of the undeformed mesh against its own field (the grid
-    // Improve builds from a Reference): the floor of what density control
-    // can reach on this mesh (the issue asks for <= 0.15).
+    // Improve builds from a Reference), beside the issue's goal of <= 0.15
+    // for the improved mesh.
     femorph::DensityGrid own_field;
     if (own_field.build(undeformed.points, undeformed.tets, femorph::vertex_density(undeformed.points, undeformed.tets),
                         0.5 * femorph::mean_edge_length(undeformed.points, undeformed.tets)))
