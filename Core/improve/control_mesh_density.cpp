@@ -3,7 +3,6 @@
 
 #include "improve/ball_quality.h"
 #include "mesh/tet_mesh.h"
-#include "mesh/unique_edges.h"
 #include "quality/tet_quality.h"
 
 #include <algorithm>
@@ -50,22 +49,44 @@ double scaled_length(const TetMesh& mesh, const DensityGrid& grid, DensityLookup
   return *length * grid.density_at(0.5 * (p + q), lookup);
 }
 
-/// scaled_length of every edge, in parallel (read only: deterministic).
-std::vector<double> scaled_lengths(const TetMesh& mesh, const DensityGrid& grid, DensityLookup lookup,
-                                   const std::vector<Edge>& edges) {
-  std::vector<double> out(edges.size());
-  const long n = static_cast<long>(edges.size());
-#pragma omp parallel for schedule(static) if (n >= kParallelMinItems)
-  for (long i = 0; i < n; ++i) {
-    double length;
-    out[static_cast<std::size_t>(i)] = scaled_length(mesh, grid, lookup, edges[i].first, edges[i].second, &length);
+/// The masked edges (a < b) whose scaled length passes `pass`, each once
+/// and sorted by ends, as heap entries (steps 1 and 4). Found tet by tet in
+/// parallel: few edges pass, so the full edge list is not built; an edge is
+/// met once per tet holding it and the repeats are dropped after sorting.
+template <class Pass>
+std::vector<HeapEdge> edges_passing(const TetMesh& mesh, const DensityGrid& grid, DensityLookup lookup,
+                                    const std::vector<char>& mask, Pass pass) {
+  constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  constexpr long kChunk = 8192;
+  const long slots = mesh.tet_slots();
+  const long chunks = (slots + kChunk - 1) / kChunk;
+  std::vector<std::vector<HeapEdge>> found(static_cast<std::size_t>(chunks));
+#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
+  for (long c = 0; c < chunks; ++c) {
+    std::vector<HeapEdge>& out = found[static_cast<std::size_t>(c)];
+    const long end = std::min(slots, (c + 1) * kChunk);
+    for (long t = c * kChunk; t < end; ++t) {
+      if (!mesh.tet_alive(static_cast<index_t>(t))) continue;
+      const Tet& T = mesh.tet(static_cast<index_t>(t));
+      for (const auto& e : kTetEdges) {
+        const index_t a = std::min(T[e[0]], T[e[1]]), b = std::max(T[e[0]], T[e[1]]);
+        if (!masked(mask, a) || !masked(mask, b)) continue;
+        double length;
+        if (pass(scaled_length(mesh, grid, lookup, a, b, &length))) out.push_back({length, a, b});
+      }
+    }
   }
-  return out;
-}
-
-/// Distinct live edges (a < b), sorted.
-std::vector<Edge> live_edges(const TetMesh& mesh, const std::vector<char>& mask) {
-  return unique_edges(mesh, &mask);
+  std::vector<HeapEdge> edges;
+  std::size_t total = 0;
+  for (const std::vector<HeapEdge>& f : found) total += f.size();
+  edges.reserve(total);
+  for (const std::vector<HeapEdge>& f : found) edges.insert(edges.end(), f.begin(), f.end());
+  const auto by_ends = [](const HeapEdge& x, const HeapEdge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; };
+  std::sort(edges.begin(), edges.end(), by_ends);
+  edges.erase(std::unique(edges.begin(), edges.end(),
+                          [](const HeapEdge& x, const HeapEdge& y) { return x.a == y.a && x.b == y.b; }),
+              edges.end());
+  return edges;
 }
 
 /// Stretch of tet t with vertex `from` renamed `to` and `moved` placed at
@@ -123,11 +144,7 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
                              std::vector<char>& mask, DensityControlStats* stats) {
   const double beta1 = options.split_threshold;
   // Step 1: edges with L(e) >= beta1 / rho_GC(c_e) into a max-heap by length.
-  MaxHeap heap;
-  const std::vector<Edge> edges = live_edges(mesh, mask);
-  const std::vector<double> scaled = scaled_lengths(mesh, grid, options.lookup, edges);
-  for (std::size_t i = 0; i < edges.size(); ++i)
-    if (scaled[i] >= beta1) heap.push({(mesh.point(edges[i].second) - mesh.point(edges[i].first)).norm(), edges[i].first, edges[i].second});
+  MaxHeap heap(Longer(), edges_passing(mesh, grid, options.lookup, mask, [beta1](double s) { return s >= beta1; }));
   std::size_t splits = 0;
   std::vector<char> made;  // vertices this pass created
   const auto made_here = [&made](index_t w) { return static_cast<std::size_t>(w) < made.size() && made[w]; };
@@ -207,12 +224,8 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
     return s > 0 && s <= beta2;
   };
   // Step 4: edges with L(e) <= beta2 / rho_GC(c_e) into a min-heap.
-  MinHeap heap;
-  const std::vector<Edge> edges = live_edges(mesh, mask);
-  const std::vector<double> scaled = scaled_lengths(mesh, grid, options.lookup, edges);
-  for (std::size_t i = 0; i < edges.size(); ++i)
-    if (scaled[i] > 0 && scaled[i] <= beta2)
-      heap.push({(mesh.point(edges[i].second) - mesh.point(edges[i].first)).norm(), edges[i].first, edges[i].second});
+  MinHeap heap(Shorter(),
+               edges_passing(mesh, grid, options.lookup, mask, [beta2](double s) { return s > 0 && s <= beta2; }));
   std::size_t collapses = 0;
   std::vector<index_t> ball_keep, ball_remove, neighbours;
   // No vertex is created here, so the stamps' size is fixed.

@@ -73,20 +73,46 @@ struct Entry {
 
 }  // namespace
 
+namespace {
+
+/// Raises error[r] to the chord error of the edges of one boundary face
+/// (corners a, b, c) of region r, when r is curved.
+void add_face_chord_error(const BoundaryGeometry& geometry, index_t r, const Vec3& a, const Vec3& b, const Vec3& c,
+                          std::vector<double>& error) {
+  const SurfacePrimitive* s = geometry.region(r);
+  if (!curved(s)) return;
+  const Vec3* corner[3] = {&a, &b, &c};
+  for (int e = 0; e < 3; ++e) {
+    const double d = distance(*s, 0.5 * (*corner[e] + *corner[(e + 1) % 3]));
+    if (!(d <= error[r])) error[r] = std::isnan(error[r]) ? d : std::max(error[r], d);
+  }
+}
+
+}  // namespace
+
 std::vector<double> region_geometric_error(const TetMesh& mesh, const BoundaryGeometry& geometry) {
   std::vector<double> error(geometry.regions.size(), std::numeric_limits<double>::quiet_NaN());
   for (index_t t = 0; t < mesh.tet_slots(); ++t) {
     if (!mesh.tet_alive(t)) continue;
-    for (int f = 0; f < 4; ++f) {
-      if (!mesh.is_boundary_face(t, f)) continue;
-      const index_t r = mesh.face_region(t, f);
-      const SurfacePrimitive* s = geometry.region(r);
-      if (!curved(s)) continue;
-      for_face_edges(mesh, t, f, [&](index_t a, index_t b) {
-        const double d = distance(*s, 0.5 * (mesh.point(a) + mesh.point(b)));
-        if (!(d <= error[r])) error[r] = std::isnan(error[r]) ? d : std::max(error[r], d);
-      });
-    }
+    const Tet& T = mesh.tet(t);
+    for (int f = 0; f < 4; ++f)
+      if (mesh.is_boundary_face(t, f))
+        add_face_chord_error(geometry, mesh.face_region(t, f), mesh.point(T[kTetFace[f][0]]),
+                             mesh.point(T[kTetFace[f][1]]), mesh.point(T[kTetFace[f][2]]), error);
+  }
+  return error;
+}
+
+std::vector<double> region_geometric_error(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
+                                           const std::vector<Tet>& face_regions, const BoundaryGeometry& geometry) {
+  std::vector<double> error(geometry.regions.size(), std::numeric_limits<double>::quiet_NaN());
+  const std::size_t n = std::min(tets.size(), face_regions.size());
+  for (std::size_t t = 0; t < n; ++t) {
+    const Tet& T = tets[t];
+    for (int f = 0; f < 4; ++f)
+      if (face_regions[t][f] >= 0)
+        add_face_chord_error(geometry, face_regions[t][f], points[T[kTetFace[f][0]]], points[T[kTetFace[f][1]]],
+                             points[T[kTetFace[f][2]]], error);
   }
   return error;
 }

@@ -22,6 +22,11 @@ class TetMesh;
 /// regions and regions without edges get NaN. Edges on a curve between two
 /// regions count for both.
 std::vector<double> region_geometric_error(const TetMesh& mesh, const BoundaryGeometry& geometry);
+/// The same from a tet list and its boundary face regions (per tet, the
+/// region of the face opposite local vertex i, < 0 where interior): no
+/// TetMesh to build, e.g. for a reference mesh read with its segmentation.
+std::vector<double> region_geometric_error(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
+                                           const std::vector<Tet>& face_regions, const BoundaryGeometry& geometry);
 
 /// Whether moving boundary vertex v to p keeps the chord error (2.6.4) of
 /// its boundary edges on curved regions within `acceptable` (per region; NaN

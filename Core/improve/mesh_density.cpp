@@ -103,13 +103,17 @@ DensityError density_error_of(const std::vector<Vec3>& points, const std::vector
 
 }  // namespace
 
-std::vector<double> vertex_density(const std::vector<Vec3>& points, const std::vector<Tet>& tets) {
+std::vector<double> vertex_density(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
+                                   double* mean_length) {
   // Eq. 2.32: average of the reciprocals of the incident edge lengths.
   std::vector<double> sum(points.size(), 0.0);
   std::vector<int> count(points.size(), 0);
-  for (const Edge& e : unique_edges(tets, static_cast<index_t>(points.size()))) {
+  const std::vector<Edge> edges = unique_edges(tets, static_cast<index_t>(points.size()));
+  double length_sum = 0;
+  for (const Edge& e : edges) {
     const index_t a = e.first, b = e.second;
     const double length = (points[b] - points[a]).norm();
+    length_sum += length;
     if (!(length > 0)) continue;
     sum[a] += 1.0 / length;
     sum[b] += 1.0 / length;
@@ -117,6 +121,7 @@ std::vector<double> vertex_density(const std::vector<Vec3>& points, const std::v
     ++count[b];
   }
   for (std::size_t i = 0; i < points.size(); ++i) sum[i] = count[i] ? sum[i] / count[i] : 0.0;
+  if (mean_length) *mean_length = edges.empty() ? 0.0 : length_sum / static_cast<double>(edges.size());
   return sum;
 }
 

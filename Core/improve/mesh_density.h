@@ -28,7 +28,10 @@ class TetMesh;
 /// Eq. 2.32: rho_i = (1 / |N_i|) sum over the incident edges e of 1 / L(e).
 /// Inputs: points (#P), tets (#T, 0-based ids into points). Returns #P values;
 /// 0 for points no tet uses (and for points whose edges all have length 0).
-std::vector<double> vertex_density(const std::vector<Vec3>& points, const std::vector<Tet>& tets);
+/// `mean_length`, when given, receives mean_edge_length() of the mesh (from
+/// the same edge list, which is the costly part of both).
+std::vector<double> vertex_density(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
+                                   double* mean_length = nullptr);
 /// The same for the live vertices of a TetMesh; one value per vertex slot
 /// (0 for dead slots).
 std::vector<double> vertex_density(const TetMesh& mesh);

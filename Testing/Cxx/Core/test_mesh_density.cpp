@@ -68,6 +68,10 @@ TEST(MeshDensity, VertexDensityKuhnCubeClosedForm) {
   // plus the boundary's share; check against a direct count.
   EXPECT_GT(mean_edge_length(m.points, m.tets), h);
   EXPECT_LT(mean_edge_length(m.points, m.tets), h * s3);
+  // vertex_density's by-product is the same number.
+  double mean_length = 0;
+  vertex_density(m.points, m.tets, &mean_length);
+  EXPECT_EQ(mean_length, mean_edge_length(m.points, m.tets));
 }
 
 double linear_field(const Vec3& p) { return 1.0 + 0.3 * p.x() + 0.2 * p.y() - 0.1 * p.z(); }

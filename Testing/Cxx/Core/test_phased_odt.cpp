@@ -305,6 +305,14 @@ TEST(ShapeAccuracy, SplitsUntilTheCylindersAreWithinTheError) {
   EXPECT_GT(error[0], 0);
   EXPECT_GT(error[1], 0);
   EXPECT_TRUE(std::isnan(error[2]) && std::isnan(error[3]));  // planes
+  // The same from the tet list and its face regions (the filter's path for
+  // a Reference mesh), bit for bit.
+  const std::vector<double> from_arrays =
+      region_geometric_error(gm.mesh.points, gm.mesh.tets, gm.mesh.face_regions, a.geometry);
+  ASSERT_EQ(from_arrays.size(), 4u);
+  EXPECT_EQ(from_arrays[0], error[0]);
+  EXPECT_EQ(from_arrays[1], error[1]);
+  EXPECT_TRUE(std::isnan(from_arrays[2]) && std::isnan(from_arrays[3]));
   std::vector<double> acceptable = {0.5 * error[0], 0.5 * error[1], std::nan(""), std::nan("")};
   AccuracyControlOptions options;
   options.min_stretch = 0;  // only validity: the goal here is the error
