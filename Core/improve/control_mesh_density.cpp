@@ -169,10 +169,12 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
     const Vec3 m = 0.5 * (mesh.point(top.a) + mesh.point(top.b));
     double old_min = std::numeric_limits<double>::infinity(), new_min = old_min;
     for (const index_t t : ring) {
-      old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, m));
       new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, top.a, m));
       new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, top.b, m));
     }
+    if (new_min < options.min_stretch)  // the tets as they are matter only then
+      for (const index_t t : ring)
+        old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, m));
     index_t v = kInvalidIndex;
     if (below_floor(new_min, options.split_relative_floor * old_min, options.min_stretch) ||
         mesh.split_edge(top.a, top.b, nullptr, &v, ring.front()) != OpStatus::Ok) {
@@ -227,7 +229,7 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
   MinHeap heap(Shorter(),
                edges_passing(mesh, grid, options.lookup, mask, [beta2](double s) { return s > 0 && s <= beta2; }));
   std::size_t collapses = 0;
-  std::vector<index_t> ball_keep, ball_remove, neighbours;
+  std::vector<index_t> ball_a, ball_keep, ball_remove, neighbours;
   // No vertex is created here, so the stamps' size is fixed.
   std::vector<std::uint32_t> seen(static_cast<std::size_t>(mesh.vertex_slots()), 0);
   std::uint32_t stamp = 0;
@@ -244,7 +246,14 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
     // the entry).
     double length;
     if (!qualifies(top.a, top.b, &length)) continue;
-    const index_t hint = mesh.find_edge_tet(top.a, top.b);
+    // a's ball finds a tet on the edge and serves as that end's ball below.
+    mesh.vertex_ball(top.a, ball_a);
+    index_t hint = kInvalidIndex;
+    for (const index_t t : ball_a)
+      if (mesh.local_index(t, top.b) >= 0) {
+        hint = t;
+        break;
+      }
     if (hint < 0) continue;
     if (length != top.length) {
       heap.push({length, top.a, top.b});
@@ -271,8 +280,13 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
     Vec3 candidates[3] = {plan.position, mesh.point(plan.keep), mesh.point(plan.remove)};
     const VertexClass ck = mesh.vertex_class(plan.keep);
     const int n_candidates = ck == mesh.vertex_class(plan.remove) && ck != VertexClass::Corner ? 3 : 1;
-    mesh.vertex_ball(plan.keep, ball_keep);
-    mesh.vertex_ball(plan.remove, ball_remove);
+    if (plan.keep == top.a) {
+      ball_keep.swap(ball_a);
+      mesh.vertex_ball(plan.remove, ball_remove);
+    } else {
+      ball_remove.swap(ball_a);
+      mesh.vertex_ball(plan.keep, ball_keep);
+    }
     ball_vertices(mesh, ball_keep, ball_remove, plan.keep, plan.remove, seen, ++stamp, neighbours);
     const bool boundary_collapse =
         options.accept_boundary_collapse && (mesh.on_boundary(plan.keep) || mesh.on_boundary(plan.remove));
@@ -294,28 +308,35 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
         if (creates_long_edge) break;
       }
       if (creates_long_edge) continue;
-      if (std::isnan(old_min)) {
+      // Stretch floor over the tets that survive, with remove renamed keep
+      // and keep moved to x; a candidate no better than the best so far is
+      // dropped as soon as one tet shows it.
+      double new_min = std::numeric_limits<double>::infinity();
+      for (const std::vector<index_t>* ball : {&ball_keep, &ball_remove}) {
+        for (const index_t t : *ball) {
+          if (mesh.local_index(t, plan.keep) >= 0 && mesh.local_index(t, plan.remove) >= 0) continue;  // vanishes
+          new_min = std::min(new_min, stretch_with(mesh, t, plan.remove, plan.keep, plan.keep, x));
+          if (new_min <= best_min) break;
+        }
+        if (new_min <= best_min) break;
+      }
+      if (new_min <= best_min) continue;
+      // The worst tet as it is matters only below the floor.
+      if (new_min < options.min_stretch && std::isnan(old_min)) {
         old_min = std::numeric_limits<double>::infinity();
         for (const std::vector<index_t>* ball : {&ball_keep, &ball_remove})
           for (const index_t t : *ball)
             old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, x));
       }
-      // Stretch floor over the tets that survive, with remove renamed keep
-      // and keep moved to x.
-      double new_min = std::numeric_limits<double>::infinity();
-      for (const std::vector<index_t>* ball : {&ball_keep, &ball_remove})
-        for (const index_t t : *ball) {
-          if (mesh.local_index(t, plan.keep) >= 0 && mesh.local_index(t, plan.remove) >= 0) continue;  // vanishes
-          new_min = std::min(new_min, stretch_with(mesh, t, plan.remove, plan.keep, plan.keep, x));
-        }
-      if (below_floor(new_min, old_min, options.min_stretch) || new_min <= best_min) continue;
+      if (below_floor(new_min, old_min, options.min_stretch)) continue;
       if (boundary_collapse &&
           !options.accept_boundary_collapse(plan.keep, plan.remove, x, ball_keep, ball_remove))
         continue;
       best = c;
       best_min = new_min;
     }
-    if (best < 0 || mesh.collapse_edge(plan.keep, plan.remove, &candidates[best]) != OpStatus::Ok) {
+    if (best < 0 ||
+        mesh.collapse_edge(plan.keep, plan.remove, &candidates[best], ball_keep, ball_remove) != OpStatus::Ok) {
       if (stats) ++stats->refused_collapses;
       continue;
     }

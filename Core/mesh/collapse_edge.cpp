@@ -127,14 +127,24 @@ bool TetMesh::link_condition(index_t a, index_t b, const std::vector<index_t>& b
 }
 
 OpStatus TetMesh::collapse_edge(index_t keep, index_t remove, const Vec3* position) {
+  return collapse_edge_with(keep, remove, position, nullptr, nullptr);
+}
+
+OpStatus TetMesh::collapse_edge(index_t keep, index_t remove, const Vec3* position,
+                                const std::vector<index_t>& ball_keep, const std::vector<index_t>& ball_remove) {
+  return collapse_edge_with(keep, remove, position, &ball_keep, &ball_remove);
+}
+
+OpStatus TetMesh::collapse_edge_with(index_t keep, index_t remove, const Vec3* position,
+                                     const std::vector<index_t>* given_keep,
+                                     const std::vector<index_t>* given_remove) {
   if (!vertex_alive(keep) || !vertex_alive(remove) || keep == remove) return OpStatus::InvalidArgument;
   const Vec3 p = position ? *position : points_[keep];
   if (!p.allFinite()) return OpStatus::InvalidArgument;
-  std::vector<index_t>& ball_keep = scratch_ball_;
-  std::vector<index_t>& ball_remove = scratch_ball2_;
   // remove's ball first: it decides most refusals (not an edge, inverted);
   // keep's ball is walked only when needed.
-  vertex_ball(remove, ball_remove);
+  if (!given_remove) vertex_ball(remove, scratch_ball2_);
+  const std::vector<index_t>& ball_remove = given_remove ? *given_remove : scratch_ball2_;
   auto positive_after = [&](const Tet& T) {
     const Vec3* q[4];
     for (int i = 0; i < 4; ++i) q[i] = (T[i] == keep || T[i] == remove) ? &p : &points_[T[i]];
@@ -165,7 +175,8 @@ OpStatus TetMesh::collapse_edge(index_t keep, index_t remove, const Vec3* positi
     if (local_index(t, keep) < 0 && !positive_after(rec_[t].v) && !(keep_inverted_ && orientation(t) < 0))
       return OpStatus::Inverted;
   // Tets of ball(keep) off the edge stay, with keep moved to p.
-  vertex_ball(keep, ball_keep);
+  if (!given_keep) vertex_ball(keep, scratch_ball_);
+  const std::vector<index_t>& ball_keep = given_keep ? *given_keep : scratch_ball_;
   unchanged.clear();
   for (index_t t : ball_keep)
     if (local_index(t, remove) < 0) unchanged.push_back(t);

@@ -210,6 +210,11 @@ class TetMesh {
   /// condition and that every remaining tet of both balls stays positive.
   /// Does not apply the rules of Fig. 2.37: see collapse_edge_by_rules().
   OpStatus collapse_edge(index_t keep, index_t remove, const Vec3* position);
+  /// The same with both balls given as vertex_ball() lists them on the mesh
+  /// as it is (a caller that evaluated the collapse has them: two walks
+  /// spared).
+  OpStatus collapse_edge(index_t keep, index_t remove, const Vec3* position, const std::vector<index_t>& ball_keep,
+                         const std::vector<index_t>& ball_remove);
   /// Half-edge collapse (Fig. 2.39): `remove` moves onto `keep`.
   OpStatus half_edge_collapse(index_t remove, index_t keep) { return collapse_edge(keep, remove, nullptr); }
   /// Half-edge collapse for the inverted element removal (thesis 2.6.2,
@@ -285,6 +290,8 @@ class TetMesh {
   /// Link condition of thesis 2.6.1.3 / Dey et al. for collapsing (a, b):
   /// Lk(a) n Lk(b) = Lk(ab), with a vertex at infinity coning the boundary.
   /// ball_a, ball_b: the balls of a and b; ring: the tets on the edge.
+  OpStatus collapse_edge_with(index_t keep, index_t remove, const Vec3* position,
+                              const std::vector<index_t>* given_keep, const std::vector<index_t>* given_remove);
   bool link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
                       const std::vector<index_t>& ball_b, const std::vector<index_t>& ring) const;
   VertexClass classify_vertex(index_t v) const;
