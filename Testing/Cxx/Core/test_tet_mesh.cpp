@@ -373,6 +373,43 @@ TEST(CollapseEdge, RefusesInversionAndKeepsTheMesh) {
   expect_valid(m);
 }
 
+// The collapse with the balls given (as Density control passes them) makes
+// the same mesh as the one that walks them, slot for slot, and refuses alike.
+TEST(CollapseEdge, GivenBallsGiveTheSameMesh) {
+  const testing::TestMesh cube = testing::make_cube_mesh(3, 0.2, 7);
+  TetMesh plain, given;
+  ASSERT_TRUE(plain.build(cube.points, cube.tets).ok);
+  ASSERT_TRUE(given.build(cube.points, cube.tets).ok);
+  std::size_t done = 0, refused = 0;
+  std::vector<index_t> ball_keep, ball_remove;
+  for (index_t a = 0; a < plain.vertex_slots(); ++a) {
+    std::vector<index_t> neighbours;
+    if (!plain.vertex_alive(a)) continue;
+    plain.vertex_neighbors(a, neighbours);
+    for (const index_t b : neighbours) {
+      if (!plain.vertex_alive(b) || !plain.has_edge(a, b)) continue;
+      const Vec3 mid = 0.5 * (plain.point(a) + plain.point(b));
+      given.vertex_ball(a, ball_keep);
+      given.vertex_ball(b, ball_remove);
+      const OpStatus s1 = plain.collapse_edge(a, b, &mid);
+      const OpStatus s2 = given.collapse_edge(a, b, &mid, ball_keep, ball_remove);
+      ASSERT_EQ(s1, s2);
+      (s1 == OpStatus::Ok ? done : refused) += 1;
+      break;
+    }
+  }
+  EXPECT_GT(done, 5u);
+  EXPECT_GT(refused, 0u);
+  ASSERT_EQ(plain.tet_slots(), given.tet_slots());
+  for (index_t t = 0; t < plain.tet_slots(); ++t) {
+    ASSERT_EQ(plain.tet_alive(t), given.tet_alive(t));
+    if (plain.tet_alive(t)) {
+      EXPECT_EQ(plain.tet(t), given.tet(t));
+    }
+  }
+  expect_valid(given);
+}
+
 // ---------------------------------------------------------------------------
 // The cube cut into 2 x 2 x 2 cells, faces in six regions: vertex classes and
 // the collapse rules of thesis Fig. 2.37.
