@@ -148,7 +148,7 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
   std::size_t splits = 0;
   std::vector<char> made;  // vertices this pass created
   const auto made_here = [&made](index_t w) { return static_cast<std::size_t>(w) < made.size() && made[w]; };
-  std::vector<index_t> ring, ball;
+  std::vector<index_t> ring, opposite, ball;
   // Steps 2-3: split the longest until the heap is empty.
   while (!heap.empty()) {
     const HeapEdge top = heap.top();
@@ -159,7 +159,7 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
     double length;
     if (scaled_length(mesh, grid, options.lookup, top.a, top.b, &length) < beta1) continue;
     bool boundary = false;
-    if (!mesh.edge_ring(top.a, top.b, ring, &boundary)) continue;
+    if (!mesh.edge_ring_with_vertices(top.a, top.b, ring, opposite, &boundary)) continue;
     if (length != top.length) {  // a projection moved an end: requeue
       heap.push({length, top.a, top.b});
       continue;
@@ -177,7 +177,7 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
         old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, m));
     index_t v = kInvalidIndex;
     if (below_floor(new_min, options.split_relative_floor * old_min, options.min_stretch) ||
-        mesh.split_edge(top.a, top.b, nullptr, &v, ring.front()) != OpStatus::Ok) {
+        mesh.split_edge(top.a, top.b, nullptr, &v, ring, opposite, boundary) != OpStatus::Ok) {
       if (stats) ++stats->refused_splits;
       continue;
     }

@@ -105,8 +105,7 @@ class FlipEvaluator {
     static const int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
     for (const auto& e : kEdges) {
       const index_t a = T[e[0]], b = T[e[1]];
-      bool boundary = false;
-      if (!mesh_.edge_ring(a, b, ring_, &boundary, t) || boundary) continue;
+      if (!closed_ring_up_to_4(a, b, t)) continue;
       const std::size_t n = ring_.size();
       if (n != 3 && n != 4) continue;
       // c[i]: the ring vertex shared by ring[i - 1] and ring[i] (ring[i]
@@ -135,6 +134,37 @@ class FlipEvaluator {
   }
 
  private:
+  /// ring_ = the tets around interior edge (a, b) of tet t when they are
+  /// three or four, in TetMesh::edge_ring()'s order from t (the 4-4 flip's
+  /// diagonal index refers to it); false otherwise. The walk stops at the
+  /// fifth tet or a boundary face: most rings are longer, and edge_ring()
+  /// would walk them whole, twice.
+  bool closed_ring_up_to_4(index_t a, index_t b, index_t t) {
+    ring_.clear();
+    const auto others = [&](index_t u, index_t* x, index_t* y) {
+      int k = 0;
+      index_t o[2] = {kInvalidIndex, kInvalidIndex};
+      for (const index_t w : mesh_.tet(u))
+        if (w != a && w != b && k < 2) o[k++] = w;
+      *x = o[0];
+      *y = o[1];
+    };
+    index_t u = t, cx, cy;
+    others(t, &cx, &cy);
+    for (;;) {
+      index_t ox, oy;
+      others(u, &ox, &oy);
+      cy = ox == cx ? oy : ox;
+      ring_.push_back(u);
+      if (ring_.size() > 4) return false;
+      const index_t code = mesh_.adjacency(u, mesh_.local_index(u, cx));
+      if (code < 0) return false;  // a boundary edge
+      u = code >> 2;
+      if (u == t) return ring_.size() >= 3;
+      cx = cy;
+    }
+  }
+
   TetMesh& mesh_;
   const FlipImproveOptions& options_;
   std::vector<index_t> ring_, old_;

@@ -8,10 +8,14 @@
 namespace femorph {
 
 OpStatus TetMesh::split_edge(index_t a, index_t b, const Vec3* position, index_t* new_vertex_out, index_t hint) {
-  std::vector<index_t>& ring = scratch_ball_;
-  std::vector<index_t>& c = scratch_ball2_;
   bool boundary = false;
-  if (!edge_ring_with_vertices(a, b, ring, c, &boundary, hint)) return OpStatus::InvalidArgument;
+  if (!edge_ring_with_vertices(a, b, scratch_ball_, scratch_ball2_, &boundary, hint)) return OpStatus::InvalidArgument;
+  return split_edge(a, b, position, new_vertex_out, scratch_ball_, scratch_ball2_, boundary);
+}
+
+OpStatus TetMesh::split_edge(index_t a, index_t b, const Vec3* position, index_t* new_vertex_out,
+                             const std::vector<index_t>& ring, const std::vector<index_t>& c, bool boundary) {
+  if (ring.empty() || !vertex_alive(a) || !vertex_alive(b)) return OpStatus::InvalidArgument;
   const Vec3 p = position ? *position : Vec3(0.5 * (points_[a] + points_[b]));
   if (!p.allFinite()) return OpStatus::InvalidArgument;
 

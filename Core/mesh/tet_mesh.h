@@ -176,6 +176,11 @@ class TetMesh {
   /// boundary); then the first and last tet have the boundary faces.
   bool edge_ring(index_t a, index_t b, std::vector<index_t>& ring, bool* on_boundary,
                  index_t hint = kInvalidIndex) const;
+  /// Edge ring with the opposite vertices: ring[i] contains c[i] and c[i+1]
+  /// (c has ring.size() + 1 entries when open, ring.size() when closed).
+  bool edge_ring_with_vertices(index_t a, index_t b, std::vector<index_t>& ring,
+                               std::vector<index_t>& opposite, bool* on_boundary,
+                               index_t hint = kInvalidIndex) const;
   /// A live tet having face {a, b, c} and the local face index, or -1.
   index_t find_face(index_t a, index_t b, index_t c, int* local_face = nullptr) const;
   /// True if v lies on a boundary face.
@@ -201,6 +206,10 @@ class TetMesh {
   /// Refused if a new tet would not be positive (possible off the midpoint).
   OpStatus split_edge(index_t a, index_t b, const Vec3* position, index_t* new_vertex,
                       index_t hint = kInvalidIndex);
+  /// The same with the edge's ring given as edge_ring_with_vertices() lists
+  /// it on the mesh as it is (a caller that evaluated the split has it).
+  OpStatus split_edge(index_t a, index_t b, const Vec3* position, index_t* new_vertex,
+                      const std::vector<index_t>& ring, const std::vector<index_t>& opposite, bool on_boundary);
   /// Face split (Fig. 2.35 (b)): inserts a vertex on face f of tet t at
   /// `position` (nullptr: the centroid); each tet on the face becomes three.
   OpStatus split_face(index_t t, int f, const Vec3* position, index_t* new_vertex);
@@ -279,11 +288,6 @@ class TetMesh {
                     const std::vector<index_t>& new_origins, index_t rename_from, index_t rename_to);
   /// Links two faces of a cavity with the same vertices (see replace_tets).
   void link_faces(const internal::FaceSlot& p, const internal::FaceSlot& q);
-  /// Edge ring with the opposite vertices: ring[i] contains c[i] and c[i+1]
-  /// (c has ring.size() + 1 entries when open, ring.size() when closed).
-  bool edge_ring_with_vertices(index_t a, index_t b, std::vector<index_t>& ring,
-                               std::vector<index_t>& opposite, bool* on_boundary,
-                               index_t hint = kInvalidIndex) const;
   /// Whether an open ring (from edge_ring_with_vertices) lies on a curve:
   /// its two boundary faces have different regions.
   bool open_ring_on_curve(const std::vector<index_t>& ring, const std::vector<index_t>& opposite) const;
