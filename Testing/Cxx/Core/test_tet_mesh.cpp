@@ -373,6 +373,39 @@ TEST(CollapseEdge, RefusesInversionAndKeepsTheMesh) {
   expect_valid(m);
 }
 
+// The split with the ring given (as Density control passes it) makes the
+// same mesh as the one that walks it, slot for slot, on interior and
+// boundary edges.
+TEST(SplitEdge, GivenRingGivesTheSameMesh) {
+  const testing::TestMesh cube = testing::make_cube_mesh(3, 0.2, 5);
+  TetMesh plain, given;
+  ASSERT_TRUE(plain.build(cube.points, cube.tets).ok);
+  ASSERT_TRUE(given.build(cube.points, cube.tets).ok);
+  std::vector<index_t> ring, opposite, neighbours;
+  std::size_t splits[2] = {0, 0};  // interior, boundary
+  const index_t n = plain.vertex_slots();
+  for (index_t a = 0; a < n; a += 3) {
+    plain.vertex_neighbors(a, neighbours);
+    const index_t b = neighbours.front();
+    bool boundary = false;
+    ASSERT_TRUE(given.edge_ring_with_vertices(a, b, ring, opposite, &boundary));
+    index_t v1 = -1, v2 = -1;
+    ASSERT_EQ(plain.split_edge(a, b, nullptr, &v1), OpStatus::Ok);
+    ASSERT_EQ(given.split_edge(a, b, nullptr, &v2, ring, opposite, boundary), OpStatus::Ok);
+    EXPECT_EQ(v1, v2);
+    EXPECT_EQ(plain.vertex_class(v1), given.vertex_class(v2));
+    ++splits[boundary];
+  }
+  EXPECT_GT(splits[0], 0u);
+  EXPECT_GT(splits[1], 0u);
+  ASSERT_EQ(plain.tet_slots(), given.tet_slots());
+  for (index_t t = 0; t < plain.tet_slots(); ++t) {
+    EXPECT_EQ(plain.tet(t), given.tet(t));
+    for (int f = 0; f < 4; ++f) EXPECT_EQ(plain.adjacency(t, f), given.adjacency(t, f));
+  }
+  expect_valid(given);
+}
+
 // The collapse with the balls given (as Density control passes them) makes
 // the same mesh as the one that walks them, slot for slot, and refuses alike.
 TEST(CollapseEdge, GivenBallsGiveTheSameMesh) {
