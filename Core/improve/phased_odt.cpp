@@ -98,27 +98,36 @@ void add_flips(PhasedOdtStats& stats, const FlipImproveReport& r) {
   stats.flips_44 += r.flips_44;
 }
 
-/// Live tets with stretch below `threshold`.
+/// Live tets with stretch below `threshold` (in parallel: read only).
 std::size_t count_below(const TetMesh& mesh, double threshold) {
   std::size_t n = 0;
-  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-    if (!mesh.tet_alive(t)) continue;
-    const Tet& T = mesh.tet(t);
+  const long slots = mesh.tet_slots();
+#pragma omp parallel for schedule(static) reduction(+ : n) if (slots >= kParallelMinItems)
+  for (long t = 0; t < slots; ++t) {
+    if (!mesh.tet_alive(static_cast<index_t>(t))) continue;
+    const Tet& T = mesh.tet(static_cast<index_t>(t));
     n += tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) < threshold;
   }
   return n;
 }
 
 /// Vertices of the tets with stretch below `threshold`, among the movable
-/// ones (empty `movable`: all).
+/// ones (empty `movable`: all). The stretches in parallel, the marks after.
 std::vector<std::uint8_t> vertices_of_poor_tets(const TetMesh& mesh, const std::vector<std::uint8_t>& movable,
                                                 double threshold) {
+  const long slots = mesh.tet_slots();
+  std::vector<std::uint8_t> poor(static_cast<std::size_t>(slots), 0);
+#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
+  for (long t = 0; t < slots; ++t) {
+    if (!mesh.tet_alive(static_cast<index_t>(t))) continue;
+    const Tet& T = mesh.tet(static_cast<index_t>(t));
+    poor[static_cast<std::size_t>(t)] =
+        tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) < threshold;
+  }
   std::vector<std::uint8_t> mask(static_cast<std::size_t>(mesh.vertex_slots()), 0);
-  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-    if (!mesh.tet_alive(t)) continue;
-    const Tet& T = mesh.tet(t);
-    if (tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) >= threshold) continue;
-    for (const index_t v : T)
+  for (long t = 0; t < slots; ++t) {
+    if (!poor[static_cast<std::size_t>(t)]) continue;
+    for (const index_t v : mesh.tet(static_cast<index_t>(t)))
       mask[v] = movable.empty() || (static_cast<std::size_t>(v) < movable.size() && movable[v]);
   }
   return mask;
