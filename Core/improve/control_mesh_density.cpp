@@ -11,6 +11,8 @@
 #include <limits>
 #include <queue>
 
+#include <omp.h>
+
 namespace femorph {
 
 namespace {
@@ -218,6 +220,127 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
   return splits;
 }
 
+namespace {
+
+/// A collapse candidate popped from the heap and what its evaluation found.
+struct CollapseEval {
+  enum Result { NotAnEdge, Refused, Accepted, NeedsProjection };
+  HeapEdge entry{};
+  Result result = NotAnEdge;
+  CollapsePlan plan;
+  Vec3 position = Vec3::Zero();
+  bool projected = false;
+  // Both balls, and the vertices of their tets except the two ends (the
+  // surviving vertex's neighbours); only a's ball when the rules refuse.
+  std::vector<index_t> ball_a, ball_keep, ball_remove, neighbours;
+};
+
+/// Step 6 for one candidate without changing the mesh: the rules of
+/// Fig. 2.37, then the best position (the rules' one; with equal classes
+/// also either end) that creates no splittable edge, keeps the stretch floor
+/// and (on the boundary) the chord error. Read only, with the caller's walk
+/// marks and stamps, so candidates can be evaluated in parallel; a boundary
+/// vertex to be projected (the callback may walk the mesh's own marks) is
+/// left as NeedsProjection unless `may_project`.
+void evaluate_collapse(const TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
+                       bool may_project, TetMesh::WalkMarks& marks, std::vector<std::uint32_t>& seen,
+                       std::uint32_t& stamp, CollapseEval& e) {
+  const index_t a = e.entry.a, b = e.entry.b;
+  e.result = CollapseEval::NotAnEdge;
+  e.neighbours.clear();
+  // a's ball finds a tet on the edge and serves as that end's ball below.
+  mesh.vertex_ball(a, e.ball_a, marks);
+  index_t hint = kInvalidIndex;
+  for (const index_t t : e.ball_a)
+    if (mesh.local_index(t, b) >= 0) {
+      hint = t;
+      break;
+    }
+  if (hint < 0) return;
+  e.result = CollapseEval::Refused;
+  CollapsePlan& plan = e.plan;
+  plan = mesh.plan_collapse_by_rules(a, b, hint);
+  if (plan.status != OpStatus::Ok) return;
+  if (plan.keep == a) {
+    e.ball_keep.swap(e.ball_a);
+    mesh.vertex_ball(plan.remove, e.ball_remove, marks);
+  } else {
+    e.ball_remove.swap(e.ball_a);
+    mesh.vertex_ball(plan.keep, e.ball_keep, marks);
+  }
+  ball_vertices(mesh, e.ball_keep, e.ball_remove, plan.keep, plan.remove, seen, ++stamp, e.neighbours);
+  e.projected = false;
+  if (options.project && mesh.on_boundary(plan.keep) && plan.position != mesh.point(plan.keep)) {
+    if (!may_project) {  // after the balls: the caller checks the same neighbourhood
+      e.result = CollapseEval::NeedsProjection;
+      return;
+    }
+    const Vec3 q = options.project(plan.keep, plan.position);
+    if (q.allFinite()) {
+      e.projected = q != plan.position;
+      plan.position = q;
+    }
+  }
+  // Candidate positions of the surviving vertex: the rules' position
+  // (Fig. 2.37); when both ends have the same class (on one region or
+  // curve), also the two ends themselves (half-edge collapses, Fig. 2.39),
+  // which stay on that region or curve.
+  const Vec3 candidates[3] = {plan.position, mesh.point(plan.keep), mesh.point(plan.remove)};
+  const VertexClass ck = mesh.vertex_class(plan.keep);
+  const int n_candidates = ck == mesh.vertex_class(plan.remove) && ck != VertexClass::Corner ? 3 : 1;
+  const bool boundary_collapse =
+      options.accept_boundary_collapse && (mesh.on_boundary(plan.keep) || mesh.on_boundary(plan.remove));
+  double old_min = std::numeric_limits<double>::quiet_NaN();
+  int best = -1;
+  double best_min = -std::numeric_limits<double>::infinity();
+  for (int c = 0; c < n_candidates; ++c) {
+    const Vec3& x = candidates[c];
+    if (c > 0 && x == candidates[0]) continue;
+    // No edge of the surviving vertex may become long enough to be split
+    // (else a split and a collapse can undo each other forever; the
+    // thesis' convergence condition on beta1, beta2 assumes this).
+    bool creates_long_edge = false;
+    for (const index_t n : e.neighbours) {
+      const Vec3& q = mesh.point(n);
+      creates_long_edge = (q - x).norm() * grid.density_at(0.5 * (q + x), options.lookup) >= options.split_threshold;
+      if (creates_long_edge) break;
+    }
+    if (creates_long_edge) continue;
+    // Stretch floor over the tets that survive, with remove renamed keep
+    // and keep moved to x; a candidate no better than the best so far is
+    // dropped as soon as one tet shows it.
+    double new_min = std::numeric_limits<double>::infinity();
+    for (const std::vector<index_t>* ball : {&e.ball_keep, &e.ball_remove}) {
+      for (const index_t t : *ball) {
+        if (mesh.local_index(t, plan.keep) >= 0 && mesh.local_index(t, plan.remove) >= 0) continue;  // vanishes
+        new_min = std::min(new_min, stretch_with(mesh, t, plan.remove, plan.keep, plan.keep, x));
+        if (new_min <= best_min) break;
+      }
+      if (new_min <= best_min) break;
+    }
+    if (new_min <= best_min) continue;
+    // The worst tet as it is matters only below the floor.
+    if (new_min < options.min_stretch && std::isnan(old_min)) {
+      old_min = std::numeric_limits<double>::infinity();
+      for (const std::vector<index_t>* ball : {&e.ball_keep, &e.ball_remove})
+        for (const index_t t : *ball)
+          old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, x));
+    }
+    if (below_floor(new_min, old_min, options.min_stretch)) continue;
+    if (boundary_collapse &&
+        !options.accept_boundary_collapse(plan.keep, plan.remove, x, e.ball_keep, e.ball_remove))
+      continue;
+    best = c;
+    best_min = new_min;
+  }
+  if (best < 0) return;
+  e.position = candidates[best];
+  e.projected = e.projected && best == 0;
+  e.result = CollapseEval::Accepted;
+}
+
+}  // namespace
+
 std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
                                  const std::vector<char>& mask, DensityControlStats* stats) {
   const double beta2 = options.collapse_threshold;
@@ -229,126 +352,85 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
   MinHeap heap(Shorter(),
                edges_passing(mesh, grid, options.lookup, mask, [beta2](double s) { return s > 0 && s <= beta2; }));
   std::size_t collapses = 0;
-  std::vector<index_t> ball_a, ball_keep, ball_remove, neighbours;
+  // Beyond the thesis: the shortest edges are popped in batches and
+  // evaluated in parallel (read only), then collapsed in heap order; a
+  // candidate whose neighbourhood an earlier collapse of its batch changed
+  // goes back into the heap. The batches do not depend on the number of
+  // threads, so neither does the result.
+  constexpr std::size_t kBatch = 128;
+  std::vector<CollapseEval> batch(kBatch);
+  const int threads = std::max(1, omp_get_max_threads());
+  std::vector<TetMesh::WalkMarks> marks(static_cast<std::size_t>(threads));
   // No vertex is created here, so the stamps' size is fixed.
-  std::vector<std::uint32_t> seen(static_cast<std::size_t>(mesh.vertex_slots()), 0);
-  std::uint32_t stamp = 0;
+  std::vector<std::vector<std::uint32_t>> seen(static_cast<std::size_t>(threads));
+  std::vector<std::uint32_t> stamps(static_cast<std::size_t>(threads), 0);
+  for (auto& s : seen) s.assign(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  std::vector<std::uint32_t> changed(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  std::uint32_t batch_id = 0;
   HeapEdge previous{-1, kInvalidIndex, kInvalidIndex};
   while (!heap.empty()) {
     // Step 5: pop the shortest (stale entries: the edge is gone or changed;
     // a copy of the entry just handled would find the mesh as it left it).
-    const HeapEdge top = heap.top();
-    heap.pop();
-    if (top.length == previous.length && top.a == previous.a && top.b == previous.b) continue;
-    previous = top;
-    if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
-    // The cheap length test before the edge search (either failing drops
-    // the entry).
-    double length;
-    if (!qualifies(top.a, top.b, &length)) continue;
-    // a's ball finds a tet on the edge and serves as that end's ball below.
-    mesh.vertex_ball(top.a, ball_a);
-    index_t hint = kInvalidIndex;
-    for (const index_t t : ball_a)
-      if (mesh.local_index(t, top.b) >= 0) {
-        hint = t;
-        break;
-      }
-    if (hint < 0) continue;
-    if (length != top.length) {
-      heap.push({length, top.a, top.b});
-      continue;
-    }
-    // Step 6: collapse by the rules of Fig. 2.37.
-    CollapsePlan plan = mesh.plan_collapse_by_rules(top.a, top.b, hint);
-    if (plan.status != OpStatus::Ok) {
-      if (stats) ++stats->refused_collapses;
-      continue;
-    }
-    bool projected = false;
-    if (options.project && mesh.on_boundary(plan.keep) && plan.position != mesh.point(plan.keep)) {
-      const Vec3 q = options.project(plan.keep, plan.position);
-      if (q.allFinite()) {
-        projected = q != plan.position;
-        plan.position = q;
-      }
-    }
-    // Candidate positions of the surviving vertex: the rules' position
-    // (Fig. 2.37); when both ends have the same class (on one region or
-    // curve), also the two ends themselves (half-edge collapses, Fig. 2.39),
-    // which stay on that region or curve.
-    Vec3 candidates[3] = {plan.position, mesh.point(plan.keep), mesh.point(plan.remove)};
-    const VertexClass ck = mesh.vertex_class(plan.keep);
-    const int n_candidates = ck == mesh.vertex_class(plan.remove) && ck != VertexClass::Corner ? 3 : 1;
-    if (plan.keep == top.a) {
-      ball_keep.swap(ball_a);
-      mesh.vertex_ball(plan.remove, ball_remove);
-    } else {
-      ball_remove.swap(ball_a);
-      mesh.vertex_ball(plan.keep, ball_keep);
-    }
-    ball_vertices(mesh, ball_keep, ball_remove, plan.keep, plan.remove, seen, ++stamp, neighbours);
-    const bool boundary_collapse =
-        options.accept_boundary_collapse && (mesh.on_boundary(plan.keep) || mesh.on_boundary(plan.remove));
-    // The worst stretch of the tets as they are, computed when a candidate
-    // first passes the cheaper long-edge test (most candidates fail it).
-    double old_min = std::numeric_limits<double>::quiet_NaN();
-    int best = -1;
-    double best_min = -std::numeric_limits<double>::infinity();
-    for (int c = 0; c < n_candidates; ++c) {
-      const Vec3& x = candidates[c];
-      if (c > 0 && x == candidates[0]) continue;
-      // No edge of the surviving vertex may become long enough to be split
-      // (else a split and a collapse can undo each other forever; the
-      // thesis' convergence condition on beta1, beta2 assumes this).
-      bool creates_long_edge = false;
-      for (const index_t n : neighbours) {
-        const Vec3& q = mesh.point(n);
-        creates_long_edge = (q - x).norm() * grid.density_at(0.5 * (q + x), options.lookup) >= options.split_threshold;
-        if (creates_long_edge) break;
-      }
-      if (creates_long_edge) continue;
-      // Stretch floor over the tets that survive, with remove renamed keep
-      // and keep moved to x; a candidate no better than the best so far is
-      // dropped as soon as one tet shows it.
-      double new_min = std::numeric_limits<double>::infinity();
-      for (const std::vector<index_t>* ball : {&ball_keep, &ball_remove}) {
-        for (const index_t t : *ball) {
-          if (mesh.local_index(t, plan.keep) >= 0 && mesh.local_index(t, plan.remove) >= 0) continue;  // vanishes
-          new_min = std::min(new_min, stretch_with(mesh, t, plan.remove, plan.keep, plan.keep, x));
-          if (new_min <= best_min) break;
-        }
-        if (new_min <= best_min) break;
-      }
-      if (new_min <= best_min) continue;
-      // The worst tet as it is matters only below the floor.
-      if (new_min < options.min_stretch && std::isnan(old_min)) {
-        old_min = std::numeric_limits<double>::infinity();
-        for (const std::vector<index_t>* ball : {&ball_keep, &ball_remove})
-          for (const index_t t : *ball)
-            old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, x));
-      }
-      if (below_floor(new_min, old_min, options.min_stretch)) continue;
-      if (boundary_collapse &&
-          !options.accept_boundary_collapse(plan.keep, plan.remove, x, ball_keep, ball_remove))
+    std::size_t n = 0;
+    while (n < kBatch && !heap.empty()) {
+      const HeapEdge top = heap.top();
+      heap.pop();
+      if (top.length == previous.length && top.a == previous.a && top.b == previous.b) continue;
+      previous = top;
+      if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
+      double length;
+      if (!qualifies(top.a, top.b, &length)) continue;
+      if (length != top.length) {
+        heap.push({length, top.a, top.b});
         continue;
-      best = c;
-      best_min = new_min;
+      }
+      batch[n++].entry = top;
     }
-    if (best < 0 ||
-        mesh.collapse_edge(plan.keep, plan.remove, &candidates[best], ball_keep, ball_remove) != OpStatus::Ok) {
-      if (stats) ++stats->refused_collapses;
-      continue;
+    const long count = static_cast<long>(n);
+#pragma omp parallel for schedule(dynamic, 8) if (count >= 32)
+    for (long i = 0; i < count; ++i) {
+      const int id = omp_get_thread_num();
+      evaluate_collapse(mesh, grid, options, false, marks[static_cast<std::size_t>(id)],
+                        seen[static_cast<std::size_t>(id)], stamps[static_cast<std::size_t>(id)],
+                        batch[static_cast<std::size_t>(i)]);
     }
-    projected = projected && best == 0;
-    ++collapses;
-    if (projected && stats) ++stats->projections;
-    // Edges around the surviving vertex (its neighbours are `neighbours`)
-    // that now qualify go into the heap (duplicates are harmless: stale
-    // entries are skipped when popped).
-    for (const index_t n : neighbours) {
-      if (!masked(mask, n) || !masked(mask, plan.keep)) continue;
-      if (qualifies(plan.keep, n, &length)) heap.push({length, std::min(plan.keep, n), std::max(plan.keep, n)});
+    // Step 6 in heap order.
+    ++batch_id;
+    const auto untouched = [&](index_t v) { return changed[static_cast<std::size_t>(v)] != batch_id; };
+    for (std::size_t i = 0; i < n; ++i) {
+      CollapseEval& e = batch[i];
+      const bool fresh =
+          untouched(e.entry.a) && untouched(e.entry.b) &&
+          std::all_of(e.neighbours.begin(), e.neighbours.end(), untouched) &&
+          (e.result != CollapseEval::Refused || !e.neighbours.empty() ||
+           std::all_of(e.ball_a.begin(), e.ball_a.end(), [&](index_t t) {
+             return mesh.tet_alive(t) && std::all_of(mesh.tet(t).begin(), mesh.tet(t).end(), untouched);
+           }));
+      if (!fresh) {  // evaluated on a neighbourhood that has changed since
+        heap.push(e.entry);
+        continue;
+      }
+      if (e.result == CollapseEval::NotAnEdge) continue;
+      if (e.result == CollapseEval::NeedsProjection)
+        evaluate_collapse(mesh, grid, options, true, marks[0], seen[0], stamps[0], e);
+      if (e.result != CollapseEval::Accepted ||
+          mesh.collapse_edge(e.plan.keep, e.plan.remove, &e.position, e.ball_keep, e.ball_remove) != OpStatus::Ok) {
+        if (stats) ++stats->refused_collapses;
+        continue;
+      }
+      ++collapses;
+      if (e.projected && stats) ++stats->projections;
+      changed[static_cast<std::size_t>(e.plan.keep)] = batch_id;
+      changed[static_cast<std::size_t>(e.plan.remove)] = batch_id;
+      // Edges around the surviving vertex (its neighbours are `neighbours`)
+      // that now qualify go into the heap (duplicates are harmless: stale
+      // entries are skipped when popped).
+      const index_t keep = e.plan.keep;
+      for (const index_t w : e.neighbours) {
+        if (!masked(mask, w) || !masked(mask, keep)) continue;
+        double length;
+        if (qualifies(keep, w, &length)) heap.push({length, std::min(keep, w), std::max(keep, w)});
+      }
     }
   }
   return collapses;

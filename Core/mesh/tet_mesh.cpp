@@ -317,12 +317,26 @@ int TetMesh::local_index(index_t t, index_t v) const {
 
 void TetMesh::vertex_ball(index_t v, std::vector<index_t>& out) const {
   out.clear();
-  const index_t t0 = vertex_tet_[v];
-  if (t0 < 0) return;
+  if (vertex_tet_[v] < 0) return;
+  const std::uint16_t mark = next_tet_mark();
+  walk_ball(v, out, tet_mark_.data(), mark);
+}
+
+void TetMesh::vertex_ball(index_t v, std::vector<index_t>& out, WalkMarks& marks) const {
+  out.clear();
+  if (vertex_tet_[v] < 0) return;
+  if (marks.mark.size() < rec_.size()) marks.mark.resize(rec_.size(), 0);
+  if (++marks.value == 0) {
+    std::fill(marks.mark.begin(), marks.mark.end(), 0);
+    marks.value = 1;
+  }
+  walk_ball(v, out, marks.mark.data(), marks.value);
+}
+
+void TetMesh::walk_ball(index_t v, std::vector<index_t>& out, std::uint16_t* marks, std::uint16_t mark) const {
   // Breadth-first over the faces that contain v (those opposite the other
   // three vertices), marking visited tets.
-  const std::uint16_t mark = next_tet_mark();
-  std::uint16_t* marks = tet_mark_.data();
+  const index_t t0 = vertex_tet_[v];
   out.push_back(t0);
   marks[t0] = mark;
   for (std::size_t i = 0; i < out.size(); ++i) {

@@ -164,6 +164,14 @@ class TetMesh {
   // ---- topology queries ---------------------------------------------------
   /// Live tets incident to v, in no particular order (ball of v).
   void vertex_ball(index_t v, std::vector<index_t>& tets) const;
+  /// The same walk (same order) with the caller's visit marks: safe from
+  /// several threads at once, each with its own marks, while the mesh does
+  /// not change. vertex_ball(v, tets) uses the mesh's own marks.
+  struct WalkMarks {
+    std::vector<std::uint16_t> mark;
+    std::uint16_t value = 0;
+  };
+  void vertex_ball(index_t v, std::vector<index_t>& tets, WalkMarks& marks) const;
   /// Vertices adjacent to v by an edge.
   void vertex_neighbors(index_t v, std::vector<index_t>& vertices) const;
   /// A live tet containing edge (a, b), or -1 if the edge does not exist.
@@ -303,6 +311,7 @@ class TetMesh {
   /// A fresh mark value for tet_mark_ (16 bits: small and cache friendly;
   /// cleared once every 65,535 uses).
   std::uint16_t next_tet_mark() const;
+  void walk_ball(index_t v, std::vector<index_t>& out, std::uint16_t* marks, std::uint16_t mark) const;
 
   /// A tet's vertices and neighbour codes side by side: one cache line
   /// holds two tets, and local operations read both.

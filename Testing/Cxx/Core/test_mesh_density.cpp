@@ -10,6 +10,7 @@
 #include "../test_meshes.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <algorithm>
@@ -309,6 +310,26 @@ TEST(MeshDensity, VertexMaskRestrictsTheControl) {
     EXPECT_NE(std::find(run.deformed.begin(), run.deformed.end(), p), run.deformed.end()) << p.transpose();
   }
   EXPECT_GT(right, 0u);
+}
+
+// The collapse pass evaluates its candidates in parallel batches: the mesh
+// it makes must not depend on the number of threads (a cube squeezed to
+// half its length, so that thousands of edges are collapsed).
+TEST(MeshDensity, CollapsesDoNotDependOnThreadCount) {
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const DensityRun one = run_stretched(12, 0.1, 0.5, DensityControlOptions{});
+  omp_set_num_threads(2);
+  const DensityRun two = run_stretched(12, 0.1, 0.5, DensityControlOptions{});
+  omp_set_num_threads(threads);
+  std::printf("collapses %zu / %zu, refused %zu / %zu\n", one.stats.collapses, two.stats.collapses,
+              one.stats.refused_collapses, two.stats.refused_collapses);
+  EXPECT_GT(one.stats.collapses, 1000u);
+  EXPECT_EQ(one.stats.collapses, two.stats.collapses);
+  EXPECT_EQ(one.stats.refused_collapses, two.stats.refused_collapses);
+  EXPECT_EQ(one.out.points, two.out.points);
+  EXPECT_EQ(one.out.tets, two.out.tets);
+  expect_valid_box(two.out, 0.5);
 }
 
 TEST(MeshDensity, ProjectionCallbackSeesNewBoundaryVertices) {
