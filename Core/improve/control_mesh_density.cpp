@@ -142,6 +142,42 @@ Projection try_project(TetMesh& mesh, index_t v, const DensityControlOptions& op
 
 }  // namespace
 
+namespace {
+
+/// A split candidate popped from the heap and what its evaluation found.
+struct SplitEval {
+  HeapEdge entry{};
+  bool is_edge = false, accepted = false, boundary = false;
+  std::vector<index_t> ring, opposite;  // as edge_ring_with_vertices lists them
+};
+
+/// Steps 2-3 for one candidate without changing the mesh: its ring, and
+/// whether the split keeps the stretch floor (every ring tet becomes two,
+/// one with each end replaced by the midpoint). Read only, with the
+/// caller's walk marks, so candidates can be evaluated in parallel.
+void evaluate_split(const TetMesh& mesh, const DensityControlOptions& options, TetMesh::WalkMarks& marks,
+                    SplitEval& e) {
+  const index_t a = e.entry.a, b = e.entry.b;
+  e.accepted = false;
+  e.ring.clear();
+  e.opposite.clear();
+  const index_t t0 = mesh.find_edge_tet(a, b, kInvalidIndex, marks);
+  e.is_edge = t0 >= 0 && mesh.edge_ring_with_vertices(a, b, e.ring, e.opposite, &e.boundary, t0);
+  if (!e.is_edge) return;
+  const Vec3 m = 0.5 * (mesh.point(a) + mesh.point(b));
+  double old_min = std::numeric_limits<double>::infinity(), new_min = old_min;
+  for (const index_t t : e.ring) {
+    new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, a, m));
+    new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, b, m));
+  }
+  if (new_min < options.min_stretch)  // the tets as they are matter only then
+    for (const index_t t : e.ring)
+      old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, m));
+  e.accepted = !below_floor(new_min, options.split_relative_floor * old_min, options.min_stretch);
+}
+
+}  // namespace
+
 std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
                              std::vector<char>& mask, DensityControlStats* stats) {
   const double beta1 = options.split_threshold;
@@ -150,71 +186,94 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
   std::size_t splits = 0;
   std::vector<char> made;  // vertices this pass created
   const auto made_here = [&made](index_t w) { return static_cast<std::size_t>(w) < made.size() && made[w]; };
-  std::vector<index_t> ring, opposite, ball;
+  std::vector<index_t> ball;
+  // Beyond the thesis: the longest edges are popped in batches, evaluated
+  // in parallel (read only) and split in heap order; a candidate whose ring
+  // an earlier split of its batch changed goes back into the heap. The
+  // batches do not depend on the number of threads, so neither does the
+  // result.
+  constexpr std::size_t kBatch = 128;
+  std::vector<SplitEval> batch(kBatch);
+  std::vector<TetMesh::WalkMarks> marks(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+  std::vector<std::uint32_t> changed;  // batch id per vertex an accepted split changed
+  std::uint32_t batch_id = 0;
   // Steps 2-3: split the longest until the heap is empty.
   while (!heap.empty()) {
-    const HeapEdge top = heap.top();
-    heap.pop();
-    if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
-    // The cheap length test before the ring walk (either failing drops the
-    // entry).
-    double length;
-    if (scaled_length(mesh, grid, options.lookup, top.a, top.b, &length) < beta1) continue;
-    bool boundary = false;
-    if (!mesh.edge_ring_with_vertices(top.a, top.b, ring, opposite, &boundary)) continue;
-    if (length != top.length) {  // a projection moved an end: requeue
-      heap.push({length, top.a, top.b});
-      continue;
+    std::size_t n = 0;
+    while (n < kBatch && !heap.empty()) {
+      const HeapEdge top = heap.top();
+      heap.pop();
+      if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
+      // The cheap length test first (failing drops the entry).
+      double length;
+      if (scaled_length(mesh, grid, options.lookup, top.a, top.b, &length) < beta1) continue;
+      if (length != top.length) {  // a projection moved an end: requeue
+        heap.push({length, top.a, top.b});
+        continue;
+      }
+      batch[n++].entry = top;
     }
-    // Stretch floor: every tet of the ring becomes two, one with each end
-    // replaced by the midpoint m.
-    const Vec3 m = 0.5 * (mesh.point(top.a) + mesh.point(top.b));
-    double old_min = std::numeric_limits<double>::infinity(), new_min = old_min;
-    for (const index_t t : ring) {
-      new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, top.a, m));
-      new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, top.b, m));
-    }
-    if (new_min < options.min_stretch)  // the tets as they are matter only then
-      for (const index_t t : ring)
-        old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, m));
-    index_t v = kInvalidIndex;
-    if (below_floor(new_min, options.split_relative_floor * old_min, options.min_stretch) ||
-        mesh.split_edge(top.a, top.b, nullptr, &v, ring, opposite, boundary) != OpStatus::Ok) {
-      if (stats) ++stats->refused_splits;
-      continue;
-    }
-    // The midpoint of a planar boundary edge is on its plane; curved regions
-    // are projected by the caller's callback. A new vertex that cannot be
-    // put on its surface is taken back (the half-edge collapse onto an end
-    // restores the tets): boundary vertices stay on the fitted surfaces.
-    if (boundary && options.project && mesh.on_boundary(v)) {
-      const Projection p = try_project(mesh, v, options, ball);
-      if (p == Projection::Refused) {
-        mesh.half_edge_collapse(v, top.a);
+    const long count = static_cast<long>(n);
+#pragma omp parallel for schedule(dynamic, 8) if (count >= 32)
+    for (long i = 0; i < count; ++i)
+      evaluate_split(mesh, options, marks[static_cast<std::size_t>(omp_get_thread_num())],
+                     batch[static_cast<std::size_t>(i)]);
+    ++batch_id;
+    if (changed.size() < static_cast<std::size_t>(mesh.vertex_slots()))
+      changed.resize(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+    const auto untouched = [&](index_t w) {
+      return static_cast<std::size_t>(w) >= changed.size() || changed[static_cast<std::size_t>(w)] != batch_id;
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      SplitEval& e = batch[i];
+      const HeapEdge top = e.entry;
+      if (!untouched(top.a) || !untouched(top.b) || !std::all_of(e.opposite.begin(), e.opposite.end(), untouched)) {
+        heap.push(top);  // evaluated on a ring that has changed since
+        continue;
+      }
+      if (!e.is_edge) continue;
+      index_t v = kInvalidIndex;
+      if (!e.accepted ||
+          mesh.split_edge(top.a, top.b, nullptr, &v, e.ring, e.opposite, e.boundary) != OpStatus::Ok) {
         if (stats) ++stats->refused_splits;
         continue;
       }
-      if (p == Projection::Moved && stats) ++stats->projections;
-    }
-    ++splits;
-    // Beyond the thesis: the halves of an edge the pass started with go back
-    // into the heap when still long (an edge stretched x3 needs two halvings;
-    // left to the next loop, the collapses in between undo part of the
-    // first). Not their halves: without smoothing in between, repeated
-    // halving of a fan packs midpoints too closely (a cube stretched x12:
-    // density error 0.35 with one level, 0.48 with all).
-    const bool original_edge = !made_here(top.a) && !made_here(top.b);
-    if (static_cast<std::size_t>(v) >= made.size()) made.resize(static_cast<std::size_t>(v) + 1, 0);
-    made[v] = 1;
-    if (options.resplit_halves && original_edge)
-      for (const index_t end : {top.a, top.b}) {
-        double half;
-        if (scaled_length(mesh, grid, options.lookup, end, v, &half) >= beta1)
-          heap.push({half, std::min(end, v), std::max(end, v)});
+      changed[static_cast<std::size_t>(top.a)] = batch_id;
+      changed[static_cast<std::size_t>(top.b)] = batch_id;
+      // The midpoint of a planar boundary edge is on its plane; curved
+      // regions are projected by the caller's callback. A new vertex that
+      // cannot be put on its surface is taken back (the half-edge collapse
+      // onto an end restores the tets): boundary vertices stay on the
+      // fitted surfaces.
+      if (e.boundary && options.project && mesh.on_boundary(v)) {
+        const Projection p = try_project(mesh, v, options, ball);
+        if (p == Projection::Refused) {
+          mesh.half_edge_collapse(v, top.a);
+          if (stats) ++stats->refused_splits;
+          continue;
+        }
+        if (p == Projection::Moved && stats) ++stats->projections;
       }
-    if (!mask.empty()) {
-      if (static_cast<std::size_t>(v) >= mask.size()) mask.resize(static_cast<std::size_t>(v) + 1, 0);
-      mask[v] = 1;
+      ++splits;
+      // Beyond the thesis: the halves of an edge the pass started with go
+      // back into the heap when still long (an edge stretched x3 needs two
+      // halvings; left to the next loop, the collapses in between undo part
+      // of the first). Not their halves: without smoothing in between,
+      // repeated halving of a fan packs midpoints too closely (a cube
+      // stretched x12: density error 0.35 with one level, 0.48 with all).
+      const bool original_edge = !made_here(top.a) && !made_here(top.b);
+      if (static_cast<std::size_t>(v) >= made.size()) made.resize(static_cast<std::size_t>(v) + 1, 0);
+      made[v] = 1;
+      if (options.resplit_halves && original_edge)
+        for (const index_t end : {top.a, top.b}) {
+          double half;
+          if (scaled_length(mesh, grid, options.lookup, end, v, &half) >= beta1)
+            heap.push({half, std::min(end, v), std::max(end, v)});
+        }
+      if (!mask.empty()) {
+        if (static_cast<std::size_t>(v) >= mask.size()) mask.resize(static_cast<std::size_t>(v) + 1, 0);
+        mask[v] = 1;
+      }
     }
   }
   return splits;

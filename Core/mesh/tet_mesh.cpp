@@ -365,15 +365,35 @@ void TetMesh::vertex_neighbors(index_t v, std::vector<index_t>& out) const {
   out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
-index_t TetMesh::find_edge_tet(index_t a, index_t b, index_t hint) const {
-  if (!vertex_alive(a) || !vertex_alive(b) || a == b) return kInvalidIndex;
-  if (tet_alive(hint) && local_index(hint, a) >= 0 && local_index(hint, b) >= 0) return hint;
+bool TetMesh::edge_tet_without_walk(index_t a, index_t b, index_t hint, index_t* t) const {
+  *t = kInvalidIndex;
+  if (!vertex_alive(a) || !vertex_alive(b) || a == b) return true;
   const index_t ta = vertex_tet_[a], tb = vertex_tet_[b];
-  if (local_index(ta, b) >= 0) return ta;
-  if (local_index(tb, a) >= 0) return tb;
+  if (tet_alive(hint) && local_index(hint, a) >= 0 && local_index(hint, b) >= 0)
+    *t = hint;
+  else if (local_index(ta, b) >= 0)
+    *t = ta;
+  else if (local_index(tb, a) >= 0)
+    *t = tb;
+  return *t >= 0;
+}
+
+index_t TetMesh::find_edge_tet(index_t a, index_t b, index_t hint) const {
+  index_t t;
+  if (edge_tet_without_walk(a, b, hint, &t)) return t;
   vertex_ball(a, scratch_verts_);
-  for (index_t t : scratch_verts_)
-    if (local_index(t, b) >= 0) return t;
+  for (index_t u : scratch_verts_)
+    if (local_index(u, b) >= 0) return u;
+  return kInvalidIndex;
+}
+
+index_t TetMesh::find_edge_tet(index_t a, index_t b, index_t hint, WalkMarks& marks) const {
+  index_t t;
+  if (edge_tet_without_walk(a, b, hint, &t)) return t;
+  thread_local std::vector<index_t> ball;
+  vertex_ball(a, ball, marks);
+  for (index_t u : ball)
+    if (local_index(u, b) >= 0) return u;
   return kInvalidIndex;
 }
 

@@ -178,6 +178,9 @@ class TetMesh {
   /// `hint`: a tet believed to contain the edge (checked; saves the search
   /// through the ball of a). Every edge query and operation takes one.
   index_t find_edge_tet(index_t a, index_t b, index_t hint = kInvalidIndex) const;
+  /// The same with the caller's walk marks (see vertex_ball): safe from
+  /// several threads at once.
+  index_t find_edge_tet(index_t a, index_t b, index_t hint, WalkMarks& marks) const;
   bool has_edge(index_t a, index_t b) const { return find_edge_tet(a, b) >= 0; }
   /// Tets around edge (a, b) in rotation order. Returns false if the edge does
   /// not exist. *on_boundary tells whether the ring is open (edge on the
@@ -312,6 +315,9 @@ class TetMesh {
   /// cleared once every 65,535 uses).
   std::uint16_t next_tet_mark() const;
   void walk_ball(index_t v, std::vector<index_t>& out, std::uint16_t* marks, std::uint16_t mark) const;
+  /// find_edge_tet's checks that need no walk: true when they decide (*t a
+  /// tet on the edge, or -1 for dead or equal ends).
+  bool edge_tet_without_walk(index_t a, index_t b, index_t hint, index_t* t) const;
 
   /// A tet's vertices and neighbour codes side by side: one cache line
   /// holds two tets, and local operations read both.

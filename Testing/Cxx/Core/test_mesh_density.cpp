@@ -312,24 +312,29 @@ TEST(MeshDensity, VertexMaskRestrictsTheControl) {
   EXPECT_GT(right, 0u);
 }
 
-// The collapse pass evaluates its candidates in parallel batches: the mesh
-// it makes must not depend on the number of threads (a cube squeezed to
-// half its length, so that thousands of edges are collapsed).
-TEST(MeshDensity, CollapsesDoNotDependOnThreadCount) {
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
-  const DensityRun one = run_stretched(12, 0.1, 0.5, DensityControlOptions{});
-  omp_set_num_threads(2);
-  const DensityRun two = run_stretched(12, 0.1, 0.5, DensityControlOptions{});
-  omp_set_num_threads(threads);
-  std::printf("collapses %zu / %zu, refused %zu / %zu\n", one.stats.collapses, two.stats.collapses,
-              one.stats.refused_collapses, two.stats.refused_collapses);
-  EXPECT_GT(one.stats.collapses, 1000u);
-  EXPECT_EQ(one.stats.collapses, two.stats.collapses);
-  EXPECT_EQ(one.stats.refused_collapses, two.stats.refused_collapses);
-  EXPECT_EQ(one.out.points, two.out.points);
-  EXPECT_EQ(one.out.tets, two.out.tets);
-  expect_valid_box(two.out, 0.5);
+// The split and collapse passes evaluate their candidates in parallel
+// batches: the mesh they make must not depend on the number of threads (a
+// cube squeezed to half its length, so that thousands of edges are
+// collapsed, and one stretched x3, so that thousands are split).
+TEST(MeshDensity, SplitsAndCollapsesDoNotDependOnThreadCount) {
+  for (const double factor : {0.5, 3.0}) {
+    const int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const DensityRun one = run_stretched(12, 0.1, factor, DensityControlOptions{});
+    omp_set_num_threads(2);
+    const DensityRun two = run_stretched(12, 0.1, factor, DensityControlOptions{});
+    omp_set_num_threads(threads);
+    std::printf("x%.1f: splits %zu / %zu, collapses %zu / %zu, refused %zu / %zu\n", factor, one.stats.splits,
+                two.stats.splits, one.stats.collapses, two.stats.collapses, one.stats.refused_collapses,
+                two.stats.refused_collapses);
+    EXPECT_GT(factor < 1 ? one.stats.collapses : one.stats.splits, 1000u);
+    EXPECT_EQ(one.stats.splits, two.stats.splits);
+    EXPECT_EQ(one.stats.collapses, two.stats.collapses);
+    EXPECT_EQ(one.stats.refused_collapses, two.stats.refused_collapses);
+    EXPECT_EQ(one.out.points, two.out.points);
+    EXPECT_EQ(one.out.tets, two.out.tets);
+    expect_valid_box(two.out, factor);
+  }
 }
 
 TEST(MeshDensity, ProjectionCallbackSeesNewBoundaryVertices) {
