@@ -10,6 +10,8 @@
 #include <deque>
 #include <limits>
 
+#include <omp.h>
+
 namespace femorph {
 
 namespace {
@@ -176,7 +178,10 @@ class FlipEvaluator {
 
 FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions& options) {
   FlipImproveReport report;
-  FlipEvaluator eval(mesh, options);
+  // One evaluator (scratch) per thread: candidates are evaluated read only.
+  std::vector<FlipEvaluator> evals(static_cast<std::size_t>(std::max(1, omp_get_max_threads())),
+                                   FlipEvaluator(mesh, options));
+  FlipEvaluator& eval = evals[0];
   const std::size_t max_visits = options.max_visits ? options.max_visits : 20 * mesh.live_tets() + 1;
   std::deque<index_t> queue;
   std::vector<std::uint8_t> queued(mesh.tet_slots(), 0);
@@ -189,30 +194,66 @@ FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions&
   for (index_t t = 0; t < mesh.tet_slots(); ++t)
     if (mesh.tet_alive(t)) push(t);
 
-  std::vector<Candidate> cands;
-  std::vector<index_t> touched;
+  // Beyond the thesis: the queue is taken in batches, whose candidates are
+  // evaluated in parallel and applied in queue order. A flip changes only
+  // tets made of the vertices it marks, and every tet a tet's evaluation
+  // reads shares two vertices with it, so a tet with no marked vertex was
+  // evaluated on the mesh as it is; one with a marked vertex goes back into
+  // the queue. The batches do not depend on the number of threads.
+  constexpr std::size_t kBatch = 64;
+  std::vector<index_t> batch;
+  std::vector<std::vector<Candidate>> cands(kBatch);
+  std::vector<std::uint32_t> changed;
+  std::uint32_t batch_id = 0;
   while (!queue.empty()) {
-    if (report.visits >= max_visits) {
-      report.exhausted = true;
+    batch.clear();
+    while (batch.size() < kBatch && !queue.empty()) {
+      if (report.visits >= max_visits) break;
+      ++report.visits;
+      const index_t t = queue.front();
+      queue.pop_front();
+      queued[t] = 0;
+      if (!mesh.tet_alive(t) || eval.stretch(t) >= options.quality_threshold) continue;
+      batch.push_back(t);
+    }
+    if (batch.empty()) {
+      if (report.visits >= max_visits && !queue.empty()) report.exhausted = true;
       break;
     }
-    ++report.visits;
-    const index_t t = queue.front();
-    queue.pop_front();
-    queued[t] = 0;
-    if (!mesh.tet_alive(t) || eval.stretch(t) >= options.quality_threshold) continue;
-    eval.candidates(t, cands);
-    for (const Candidate& cand : cands) {
-      OpStatus s = OpStatus::InvalidArgument;
-      switch (cand.kind) {
-        case 0: s = mesh.flip_23(cand.t, cand.f); break;
-        case 1: s = mesh.flip_32(cand.a, cand.b, cand.t); break;
-        default: s = mesh.flip_44(cand.a, cand.b, cand.f, cand.t); break;
+    const long count = static_cast<long>(batch.size());
+#pragma omp parallel for schedule(dynamic, 4) if (count >= 16)
+    for (long i = 0; i < count; ++i)
+      evals[static_cast<std::size_t>(omp_get_thread_num())].candidates(batch[static_cast<std::size_t>(i)],
+                                                                        cands[static_cast<std::size_t>(i)]);
+    ++batch_id;
+    if (changed.size() < static_cast<std::size_t>(mesh.vertex_slots()))
+      changed.resize(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+      const index_t t = batch[i];
+      if (!mesh.tet_alive(t)) continue;
+      const Tet& T = mesh.tet(t);
+      if (std::any_of(T.begin(), T.end(), [&](index_t v) { return changed[static_cast<std::size_t>(v)] == batch_id; })) {
+        push(t);  // evaluated on a neighbourhood that has changed since
+        continue;
       }
-      if (s != OpStatus::Ok) continue;
-      (cand.kind == 0 ? report.flips_23 : cand.kind == 1 ? report.flips_32 : report.flips_44)++;
-      touched = mesh.touched_tets();
-      for (index_t n : touched) push(n);
+      for (const Candidate& cand : cands[i]) {
+        OpStatus s = OpStatus::InvalidArgument;
+        switch (cand.kind) {
+          case 0: s = mesh.flip_23(cand.t, cand.f); break;
+          case 1: s = mesh.flip_32(cand.a, cand.b, cand.t); break;
+          default: s = mesh.flip_44(cand.a, cand.b, cand.f, cand.t); break;
+        }
+        if (s != OpStatus::Ok) continue;
+        (cand.kind == 0 ? report.flips_23 : cand.kind == 1 ? report.flips_32 : report.flips_44)++;
+        const std::vector<index_t> touched = mesh.touched_tets();
+        for (const index_t n : touched)
+          for (const index_t v : mesh.tet(n)) changed[static_cast<std::size_t>(v)] = batch_id;
+        for (const index_t n : touched) push(n);
+        break;
+      }
+    }
+    if (report.visits >= max_visits && !queue.empty()) {
+      report.exhausted = true;
       break;
     }
   }

@@ -47,6 +47,10 @@ struct FlipImproveReport {
 /// when asked). New tets below the threshold are queued again. Ends when the
 /// queue is empty (no improving flip left) or after max_visits pops.
 /// TetMesh validates every flip (exact orientation, no duplicate entity).
+/// The queue is popped in batches of 64 whose flips are evaluated in
+/// parallel and applied in queue order (a tet whose vertices an earlier flip
+/// of the batch used is queued again): the result does not depend on the
+/// number of threads.
 FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions& options = {});
 
 }  // namespace femorph

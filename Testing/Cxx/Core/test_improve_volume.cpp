@@ -127,6 +127,33 @@ TEST(ImproveVolume, SmoothingDoesNotDependOnThreadCount) {
   EXPECT_EQ(differ, 0u);
 }
 
+// Flips are evaluated in parallel batches (improve_tets_by_flips.h): the
+// tets must not depend on the number of threads.
+TEST(ImproveVolume, FlipsDoNotDependOnThreadCount) {
+  const testing::TestMesh cube = testing::make_cube_mesh(14, 0.1, 5);
+  TetMesh m;
+  ASSERT_TRUE(m.build(cube.points, cube.tets).ok);
+  ASSERT_GT(perturb_inner_vertices(m, 0.4, 7), 1000);
+  TetMesh one = m, two = m;
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const FlipImproveReport r1 = improve_tets_by_flips(one, FlipImproveOptions());
+  omp_set_num_threads(2);
+  const FlipImproveReport r2 = improve_tets_by_flips(two, FlipImproveOptions());
+  omp_set_num_threads(threads);
+  std::printf("flips %zu / %zu, visits %zu / %zu\n", r1.total(), r2.total(), r1.visits, r2.visits);
+  EXPECT_GT(r1.total(), 500u);
+  EXPECT_EQ(r1.total(), r2.total());
+  EXPECT_EQ(r1.visits, r2.visits);
+  ASSERT_EQ(one.tet_slots(), two.tet_slots());
+  for (index_t t = 0; t < one.tet_slots(); ++t) {
+    ASSERT_EQ(one.tet_alive(t), two.tet_alive(t));
+    if (one.tet_alive(t)) {
+      EXPECT_EQ(one.tet(t), two.tet(t));
+    }
+  }
+}
+
 TEST(ImproveVolume, FlipsRaiseMinimumOfQueue) {
   double volume = 0, undeformed_mean = 0;
   TetMesh m = perturbed_cube(&volume, &undeformed_mean);
