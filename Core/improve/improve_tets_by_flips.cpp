@@ -245,7 +245,7 @@ FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions&
         }
         if (s != OpStatus::Ok) continue;
         (cand.kind == 0 ? report.flips_23 : cand.kind == 1 ? report.flips_32 : report.flips_44)++;
-        const std::vector<index_t> touched = mesh.touched_tets();
+        const std::vector<index_t>& touched = mesh.touched_tets();  // push() does not change the mesh
         for (const index_t n : touched)
           for (const index_t v : mesh.tet(n)) changed[static_cast<std::size_t>(v)] = batch_id;
         for (const index_t n : touched) push(n);
