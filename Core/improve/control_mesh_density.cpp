@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 #include <queue>
+#include <utility>
 
 #include <omp.h>
 
@@ -51,21 +52,34 @@ double scaled_length(const TetMesh& mesh, const DensityGrid& grid, DensityLookup
   return *length * grid.density_at(0.5 * (p + q), lookup);
 }
 
-/// The masked edges (a < b) whose scaled length passes `pass`, each once
-/// and sorted by ends, as heap entries (steps 1 and 4). Found tet by tet in
-/// parallel: few edges pass, so the full edge list is not built; an edge is
-/// met once per tet holding it and the repeats are dropped after sorting.
-template <class Pass>
-std::vector<HeapEdge> edges_passing(const TetMesh& mesh, const DensityGrid& grid, DensityLookup lookup,
-                                    const std::vector<char>& mask, Pass pass) {
-  constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+
+/// Sorts heap entries by ends and drops the repeats.
+void sort_unique_by_ends(std::vector<HeapEdge>& edges) {
+  const auto by_ends = [](const HeapEdge& x, const HeapEdge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; };
+  std::sort(edges.begin(), edges.end(), by_ends);
+  edges.erase(std::unique(edges.begin(), edges.end(),
+                          [](const HeapEdge& x, const HeapEdge& y) { return x.a == y.a && x.b == y.b; }),
+              edges.end());
+}
+
+/// The masked edges (a < b) with scaled length >= beta1 into *longs and
+/// with 0 < scaled length <= beta2 into *shorts (either may be null), each
+/// once and sorted by ends, as heap entries (steps 1 and 4). Found tet by
+/// tet in parallel: few edges pass, so the full edge list is not built; an
+/// edge is met once per tet holding it and the repeats are dropped after
+/// sorting.
+void edges_passing(const TetMesh& mesh, const DensityGrid& grid, DensityLookup lookup, const std::vector<char>& mask,
+                   double beta1, double beta2, std::vector<HeapEdge>* longs, std::vector<HeapEdge>* shorts) {
   constexpr long kChunk = 8192;
   const long slots = mesh.tet_slots();
   const long chunks = (slots + kChunk - 1) / kChunk;
-  std::vector<std::vector<HeapEdge>> found(static_cast<std::size_t>(chunks));
+  std::vector<std::vector<HeapEdge>> found_long(static_cast<std::size_t>(chunks)),
+      found_short(static_cast<std::size_t>(chunks));
 #pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
   for (long c = 0; c < chunks; ++c) {
-    std::vector<HeapEdge>& out = found[static_cast<std::size_t>(c)];
+    std::vector<HeapEdge>& out_long = found_long[static_cast<std::size_t>(c)];
+    std::vector<HeapEdge>& out_short = found_short[static_cast<std::size_t>(c)];
     const long end = std::min(slots, (c + 1) * kChunk);
     for (long t = c * kChunk; t < end; ++t) {
       if (!mesh.tet_alive(static_cast<index_t>(t))) continue;
@@ -74,21 +88,21 @@ std::vector<HeapEdge> edges_passing(const TetMesh& mesh, const DensityGrid& grid
         const index_t a = std::min(T[e[0]], T[e[1]]), b = std::max(T[e[0]], T[e[1]]);
         if (!masked(mask, a) || !masked(mask, b)) continue;
         double length;
-        if (pass(scaled_length(mesh, grid, lookup, a, b, &length))) out.push_back({length, a, b});
+        const double s = scaled_length(mesh, grid, lookup, a, b, &length);
+        if (longs && s >= beta1) out_long.push_back({length, a, b});
+        if (shorts && s > 0 && s <= beta2) out_short.push_back({length, a, b});
       }
     }
   }
-  std::vector<HeapEdge> edges;
-  std::size_t total = 0;
-  for (const std::vector<HeapEdge>& f : found) total += f.size();
-  edges.reserve(total);
-  for (const std::vector<HeapEdge>& f : found) edges.insert(edges.end(), f.begin(), f.end());
-  const auto by_ends = [](const HeapEdge& x, const HeapEdge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; };
-  std::sort(edges.begin(), edges.end(), by_ends);
-  edges.erase(std::unique(edges.begin(), edges.end(),
-                          [](const HeapEdge& x, const HeapEdge& y) { return x.a == y.a && x.b == y.b; }),
-              edges.end());
-  return edges;
+  for (auto [out, found] : {std::make_pair(longs, &found_long), std::make_pair(shorts, &found_short)}) {
+    if (!out) continue;
+    out->clear();
+    std::size_t total = 0;
+    for (const std::vector<HeapEdge>& f : *found) total += f.size();
+    out->reserve(total);
+    for (const std::vector<HeapEdge>& f : *found) out->insert(out->end(), f.begin(), f.end());
+    sort_unique_by_ends(*out);
+  }
 }
 
 /// Stretch of tet t with vertex `from` renamed `to` and `moved` placed at
@@ -178,11 +192,21 @@ void evaluate_split(const TetMesh& mesh, const DensityControlOptions& options, T
 
 }  // namespace
 
-std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
-                             std::vector<char>& mask, DensityControlStats* stats) {
-  const double beta1 = options.split_threshold;
+namespace {
+
+/// Steps 1-3 (split_long_edges). With `shorts`, also the edges that
+/// qualify for step 4 when the pass ends, which the collapse pass then need
+/// not scan for: the scan of step 1 finds the short edges too, and a split
+/// changes no edge but its own and those of its new vertex (a projection
+/// moves only that vertex), so the short edges are the ones found by the
+/// scan plus those of the new vertices still alive.
+std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
+                       std::vector<char>& mask, DensityControlStats* stats, std::vector<HeapEdge>* shorts) {
+  const double beta1 = options.split_threshold, beta2 = options.collapse_threshold;
   // Step 1: edges with L(e) >= beta1 / rho_GC(c_e) into a max-heap by length.
-  MaxHeap heap(Longer(), edges_passing(mesh, grid, options.lookup, mask, [beta1](double s) { return s >= beta1; }));
+  std::vector<HeapEdge> longs;
+  edges_passing(mesh, grid, options.lookup, mask, beta1, beta2, &longs, shorts);
+  MaxHeap heap(Longer(), std::move(longs));
   std::size_t splits = 0;
   std::vector<char> made;  // vertices this pass created
   const auto made_here = [&made](index_t w) { return static_cast<std::size_t>(w) < made.size() && made[w]; };
@@ -276,7 +300,48 @@ std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const Densi
       }
     }
   }
+  if (shorts) {
+    // The short edges of the new vertices, ball by ball in parallel.
+    std::vector<index_t> created;
+    for (std::size_t v = 0; v < made.size(); ++v)
+      if (made[v] && mesh.vertex_alive(static_cast<index_t>(v))) created.push_back(static_cast<index_t>(v));
+    const long count = static_cast<long>(created.size());
+    std::vector<std::vector<HeapEdge>> found(marks.size());
+#pragma omp parallel if (count >= kParallelMinItems)
+    {
+      const std::size_t id = static_cast<std::size_t>(omp_get_thread_num());
+      std::vector<index_t> ball, neighbours;
+#pragma omp for schedule(static)
+      for (long i = 0; i < count; ++i) {
+        const index_t v = created[static_cast<std::size_t>(i)];
+        if (!masked(mask, v)) continue;
+        mesh.vertex_ball(v, ball, marks[id]);
+        neighbours.clear();
+        for (const index_t t : ball)
+          for (const index_t w : mesh.tet(t))
+            // An edge between two new vertices once, from its lower end.
+            if (w != v && masked(mask, w) && (w > v || !made_here(w))) neighbours.push_back(w);
+        std::sort(neighbours.begin(), neighbours.end());
+        neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
+        for (const index_t w : neighbours) {
+          const index_t a = std::min(v, w), b = std::max(v, w);
+          double length;
+          const double scaled = scaled_length(mesh, grid, options.lookup, a, b, &length);
+          if (scaled > 0 && scaled <= beta2) found[id].push_back({length, a, b});
+        }
+      }
+    }
+    for (const std::vector<HeapEdge>& f : found) shorts->insert(shorts->end(), f.begin(), f.end());
+    sort_unique_by_ends(*shorts);
+  }
   return splits;
+}
+
+}  // namespace
+
+std::size_t split_long_edges(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
+                             std::vector<char>& mask, DensityControlStats* stats) {
+  return split_pass(mesh, grid, options, mask, stats, nullptr);
 }
 
 namespace {
@@ -400,16 +465,19 @@ void evaluate_collapse(const TetMesh& mesh, const DensityGrid& grid, const Densi
 
 }  // namespace
 
-std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
-                                 const std::vector<char>& mask, DensityControlStats* stats) {
+namespace {
+
+/// Steps 4-7 (collapse_short_edges) from the edges of step 4, sorted by
+/// ends (edges_passing).
+std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
+                          const std::vector<char>& mask, DensityControlStats* stats, std::vector<HeapEdge> shorts) {
   const double beta2 = options.collapse_threshold;
   const auto qualifies = [&](index_t a, index_t b, double* length) {
     const double s = scaled_length(mesh, grid, options.lookup, a, b, length);
     return s > 0 && s <= beta2;
   };
   // Step 4: edges with L(e) <= beta2 / rho_GC(c_e) into a min-heap.
-  MinHeap heap(Shorter(),
-               edges_passing(mesh, grid, options.lookup, mask, [beta2](double s) { return s > 0 && s <= beta2; }));
+  MinHeap heap(Shorter(), std::move(shorts));
   std::size_t collapses = 0;
   // Beyond the thesis: the shortest edges are popped in batches and
   // evaluated in parallel (read only), then collapsed in heap order; a
@@ -495,6 +563,16 @@ std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const D
   return collapses;
 }
 
+}  // namespace
+
+std::size_t collapse_short_edges(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
+                                 const std::vector<char>& mask, DensityControlStats* stats) {
+  std::vector<HeapEdge> shorts;
+  edges_passing(mesh, grid, options.lookup, mask, std::numeric_limits<double>::infinity(), options.collapse_threshold,
+                nullptr, &shorts);
+  return collapse_pass(mesh, grid, options, mask, stats, std::move(shorts));
+}
+
 DensityControlStats control_mesh_density(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options) {
   DensityControlStats stats;
   if (options.measure_error) stats.error_before = mean_density_error(mesh, grid, options.lookup);
@@ -506,8 +584,9 @@ DensityControlStats control_mesh_density(TetMesh& mesh, const DensityGrid& grid,
   std::vector<char> mask = options.vertex_mask;
   for (int round = 0; round < options.max_iterations; ++round) {
     ++stats.iterations;
-    const std::size_t s = split_long_edges(mesh, grid, options, mask, &stats);
-    const std::size_t c = collapse_short_edges(mesh, grid, options, mask, &stats);
+    std::vector<HeapEdge> shorts;
+    const std::size_t s = split_pass(mesh, grid, options, mask, &stats, &shorts);
+    const std::size_t c = collapse_pass(mesh, grid, options, mask, &stats, std::move(shorts));
     stats.splits += s;
     stats.collapses += c;
     if (s == 0 && c == 0) {

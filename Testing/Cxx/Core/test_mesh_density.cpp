@@ -337,6 +337,49 @@ TEST(MeshDensity, SplitsAndCollapsesDoNotDependOnThreadCount) {
   }
 }
 
+TEST(MeshDensity, CollapsePassTakesTheSplitPassScan) {
+  // control_mesh_density hands the collapse pass the short edges found by
+  // the split pass's scan and around its new vertices; the public passes
+  // scan the mesh each. Both must give the same mesh, also when
+  // projections move new boundary vertices.
+  const double factor = 3.0;
+  const Vec3 box(factor, 1, 1);
+  const TestMesh ref = make_cube_mesh(8, 0.1, 11);
+  const std::vector<double> rho = vertex_density(ref.points, ref.tets);
+  std::vector<Vec3> deformed = ref.points;
+  for (Vec3& p : deformed) p.x() *= factor;
+  DensityGrid grid;
+  ASSERT_TRUE(grid.build(deformed, ref.tets, rho, 0.5 * mean_edge_length(ref.points, ref.tets)));
+  for (const bool bulge : {false, true}) {
+    DensityControlOptions options;
+    options.max_iterations = 1;
+    if (bulge) options.project = [&](index_t, const Vec3& p) { return Vec3(p + 0.01 * (p - 0.5 * box).normalized()); };
+    BuildOptions build;
+    build.face_regions = ref.face_regions;
+    TetMesh together, apart;
+    ASSERT_TRUE(together.build(deformed, ref.tets, build).ok);
+    ASSERT_TRUE(apart.build(deformed, ref.tets, build).ok);
+    const DensityControlStats stats = control_mesh_density(together, grid, options);
+    DensityControlStats apart_stats;
+    std::vector<char> mask;
+    const std::size_t splits = split_long_edges(apart, grid, options, mask, &apart_stats);
+    const std::size_t collapses = collapse_short_edges(apart, grid, options, mask, &apart_stats);
+    std::printf("x%.0f%s: %zu splits, %zu collapses, %zu projections\n", factor, bulge ? " bulged" : "", stats.splits,
+                stats.collapses, stats.projections);
+    EXPECT_GT(stats.splits, 1000u);
+    EXPECT_GT(stats.collapses, 100u);
+    if (bulge) {
+      EXPECT_GT(stats.projections, 0u);
+    }
+    EXPECT_EQ(stats.splits, splits);
+    EXPECT_EQ(stats.collapses, collapses);
+    EXPECT_EQ(stats.projections, apart_stats.projections);
+    const CompactMesh a = together.compact(), b = apart.compact();
+    EXPECT_EQ(a.points, b.points);
+    EXPECT_EQ(a.tets, b.tets);
+  }
+}
+
 TEST(MeshDensity, ProjectionCallbackSeesNewBoundaryVertices) {
   // An identity projection is called for new boundary vertices only and
   // changes nothing.
