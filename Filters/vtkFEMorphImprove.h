@@ -130,7 +130,7 @@ public:
   ///@{
   /**
    * ODT sweeps per step of the loop (thesis: two or three). In [1, 100].
-   * Default 3.
+   * Default 2.
    */
   vtkSetClampMacro(OdtIterations, int, 1, 100);
   vtkGetMacro(OdtIterations, int);
@@ -229,7 +229,7 @@ protected:
   vtkTypeBool AccuracyControl = 1;
   vtkTypeBool Flips = 1;
   vtkTypeBool MoveUnfittedRegions = 1;
-  int OdtIterations = 3;
+  int OdtIterations = 2;
   int MaxLoops = 8;
   double SplitThreshold = 1.5;
   double CollapseThreshold = 0.67;
