@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <sstream>
 
@@ -71,8 +72,12 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
     return fail("face_regions has " + std::to_string(options.face_regions.size()) + " rows for " +
                 std::to_string(nt) + " tets");
 
+  // The passes over every point, tet or face run in parallel where they
+  // are independent (the result does not depend on the number of threads).
+  const long npoints = static_cast<long>(points.size()), ntets = static_cast<long>(nt);
   std::size_t nonfinite = 0;
-  for (const Vec3& p : points) nonfinite += !p.allFinite();
+#pragma omp parallel for schedule(static) reduction(+ : nonfinite) if (npoints >= kParallelMinItems)
+  for (long i = 0; i < npoints; ++i) nonfinite += !points[static_cast<std::size_t>(i)].allFinite();
   if (nonfinite) return fail(plural(nonfinite, "point has", "points have") + " NaN or infinite coordinates");
 
   for (std::size_t t = 0; t < nt; ++t) {
@@ -90,7 +95,9 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
   // Orientation: count signs exactly; an all-negative input is flipped.
   std::vector<signed char> sign(nt);
   std::size_t npos = 0, nneg = 0, nzero = 0;
-  for (std::size_t t = 0; t < nt; ++t) {
+#pragma omp parallel for schedule(static) reduction(+ : npos, nneg, nzero) if (ntets >= kParallelMinItems)
+  for (long i = 0; i < ntets; ++i) {
+    const std::size_t t = static_cast<std::size_t>(i);
     const Tet& T = tets[t];
     sign[t] = static_cast<signed char>(orient3d_sign(points[T[0]], points[T[1]], points[T[2]], points[T[3]]));
     npos += sign[t] > 0;
@@ -110,36 +117,63 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
     report.flipped_tets = nt;
   }
 
-  // Face matching: bucket faces by sorted vertex triple.
-  std::vector<FaceRecord> faces(4 * nt);
-  for (std::size_t t = 0; t < nt; ++t)
+  // Face matching: the faces, keyed by their sorted vertex triple, go into
+  // buckets by their smallest vertex (a counting sort), then a small sort
+  // inside each bucket: linear in practice, faster than one global sort. A
+  // face's two copies share a bucket, so the buckets are matched
+  // independently. The records are written straight into their buckets
+  // from several threads (an array zeroed first took longer than the sort
+  // at 1M tets); the sort by key and then code makes the order unique.
+  const auto face_record = [&tets](std::size_t t, int f) {
+    FaceRecord r;
+    for (int k = 0; k < 3; ++k) r.v[k] = tets[t][kTetFace[f][k]];
+    r.odd = internal::sort3_parity(r.v);
+    r.code = static_cast<index_t>(4 * t + f);
+    return r;
+  };
+  std::vector<index_t> start(static_cast<std::size_t>(nv) + 1, 0);
+#pragma omp parallel for schedule(static) if (ntets >= kParallelMinItems)
+  for (long i = 0; i < ntets; ++i) {
+    const Tet& T = tets[static_cast<std::size_t>(i)];
     for (int f = 0; f < 4; ++f) {
-      FaceRecord& r = faces[4 * t + f];
-      for (int k = 0; k < 3; ++k) r.v[k] = tets[t][kTetFace[f][k]];
-      r.odd = internal::sort3_parity(r.v);
-      r.code = static_cast<index_t>(4 * t + f);
+      const index_t smallest = std::min({T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]});
+#pragma omp atomic
+      ++start[static_cast<std::size_t>(smallest) + 1];
     }
-  // Counting sort by the smallest vertex, then a small sort inside each bucket:
-  // linear in practice, faster than one global sort.
-  {
-    std::vector<index_t> start(static_cast<std::size_t>(nv) + 1, 0);
-    for (const FaceRecord& r : faces) ++start[r.v[0] + 1];
-    std::partial_sum(start.begin(), start.end(), start.begin());
-    std::vector<FaceRecord> sorted(faces.size());
-    std::vector<index_t> fill(start.begin(), start.end() - 1);
-    for (const FaceRecord& r : faces) sorted[fill[r.v[0]]++] = r;
-    for (index_t v = 0; v < nv; ++v) std::sort(sorted.begin() + start[v], sorted.begin() + start[v + 1]);
-    faces.swap(sorted);
   }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  const std::unique_ptr<FaceRecord[]> faces(new FaceRecord[4 * nt]);
+  {
+    std::vector<index_t> fill(start.begin(), start.end() - 1);
+#pragma omp parallel for schedule(static) if (ntets >= kParallelMinItems)
+    for (long i = 0; i < ntets; ++i)
+      for (int f = 0; f < 4; ++f) {
+        const FaceRecord r = face_record(static_cast<std::size_t>(i), f);
+        index_t slot;
+#pragma omp atomic capture
+        slot = fill[static_cast<std::size_t>(r.v[0])]++;
+        faces[static_cast<std::size_t>(slot)] = r;
+      }
+  }
+  const auto by_key_then_code = [](const FaceRecord& x, const FaceRecord& y) {
+    return x < y || (x.same_face(y) && x.code < y.code);
+  };
+#pragma omp parallel for schedule(dynamic, 4096) if (nv >= kParallelMinItems)
+  for (index_t v = 0; v < nv; ++v) std::sort(&faces[start[v]], &faces[start[v + 1]], by_key_then_code);
 
   rec_.resize(nt);
-  for (std::size_t t = 0; t < nt; ++t) rec_[t] = TetRecord{tets[t], Tet{{-1, -1, -1, -1}}};
+#pragma omp parallel for schedule(static) if (ntets >= kParallelMinItems)
+  for (long t = 0; t < ntets; ++t)
+    rec_[static_cast<std::size_t>(t)] = TetRecord{tets[static_cast<std::size_t>(t)], Tet{{-1, -1, -1, -1}}};
   std::vector<Tet>().swap(tets);
   std::size_t overshared = 0, mismatched = 0, boundary = 0;
   std::vector<char> offending(nt, 0);
-  for (std::size_t i = 0; i < faces.size();) {
+#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : overshared, mismatched, boundary) \
+    if (nv >= kParallelMinItems)
+  for (index_t v = 0; v < nv; ++v)
+  for (std::size_t i = static_cast<std::size_t>(start[v]), last = static_cast<std::size_t>(start[v + 1]); i < last;) {
     std::size_t j = i + 1;
-    while (j < faces.size() && faces[j].same_face(faces[i])) ++j;
+    while (j < last && faces[j].same_face(faces[i])) ++j;
     if (j - i == 1) {
       ++boundary;
       const index_t t = faces[i].code >> 2, f = faces[i].code & 3;
@@ -155,6 +189,7 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
         ++mismatched;
         const index_t ta = a >> 2, tb = b >> 2;
         // Blame the tet whose volume sign is the minority one.
+#pragma omp atomic write
         offending[sign[ta] < 0 ? ta : (sign[tb] < 0 ? tb : ta)] = 1;
       }
     } else {
@@ -188,6 +223,7 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
     vertex_origin_[v].ids[0] = v;
     vertex_origin_[v].weights[0] = 1.0;
   }
+  std::vector<index_t>().swap(start);
   vertex_tet_.assign(nv, kInvalidIndex);
   std::vector<index_t> incidence(nv, 0);
   for (std::size_t t = 0; t < nt; ++t)
@@ -204,13 +240,23 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
 
   // Manifold vertex neighbourhoods: the ball walk must reach every incident
   // tet (otherwise local operations would see only part of the vertex).
+  // The same ball classifies the vertex (used only when the build succeeds).
   std::size_t nonmanifold_vertices = 0;
-  index_t first_bad = kInvalidIndex;
-  for (index_t v = 0; v < nv; ++v) {
-    if (vertex_tet_[v] < 0) continue;
-    vertex_ball(v, scratch_ball_);
-    if (static_cast<index_t>(scratch_ball_.size()) != incidence[v]) {
-      if (!nonmanifold_vertices++) first_bad = v;
+  index_t first_bad = std::numeric_limits<index_t>::max();
+#pragma omp parallel reduction(+ : nonmanifold_vertices) reduction(min : first_bad) if (nv >= kParallelMinItems)
+  {
+    WalkMarks marks;
+    std::vector<index_t> ball;
+#pragma omp for schedule(dynamic, 4096)
+    for (index_t v = 0; v < nv; ++v) {
+      if (vertex_tet_[v] < 0) continue;
+      vertex_ball(v, ball, marks);
+      if (static_cast<index_t>(ball.size()) != incidence[v]) {
+        ++nonmanifold_vertices;
+        first_bad = std::min(first_bad, v);
+      } else {
+        vclass_[v] = classify_ball(v, ball);
+      }
     }
   }
   if (nonmanifold_vertices)
@@ -228,7 +274,6 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
     return fail("the boundary is not manifold: at " + plural(bad_fans, "vertex", "vertices") +
                 " the boundary faces form more than one fan");
 
-  classify_vertices();
   if (report_out) *report_out = report;
   return Status::success();
 }
@@ -505,11 +550,15 @@ bool TetMesh::open_ring_on_curve(const std::vector<index_t>& ring, const std::ve
 }
 
 VertexClass TetMesh::classify_vertex(index_t v) const {
-  // Regions of the boundary faces around v, and the curve edges at v.
   vertex_ball(v, scratch_ball_);
+  return classify_ball(v, scratch_ball_);
+}
+
+VertexClass TetMesh::classify_ball(index_t v, const std::vector<index_t>& ball) const {
+  // Regions of the boundary faces around v, and the curve edges at v.
   index_t region0 = kInvalidIndex - 1;  // "none seen yet"
   bool on_bnd = false, several_regions = false;
-  for (index_t t : scratch_ball_) {
+  for (index_t t : ball) {
     const Tet& T = rec_[t].v;
     for (int f = 0; f < 4; ++f) {
       if (T[f] == v || rec_[t].n[f] >= 0) continue;
@@ -526,7 +575,7 @@ VertexClass TetMesh::classify_vertex(index_t v) const {
   if (!several_regions) return VertexClass::Surface;
   // Count curve edges: boundary edges (v, w) whose two faces differ in region.
   int curve_edges = 0;
-  for (index_t t : scratch_ball_) {
+  for (index_t t : ball) {
     const Tet& T = rec_[t].v;
     for (int f = 0; f < 4; ++f) {
       if (T[f] == v || rec_[t].n[f] >= 0) continue;
@@ -547,8 +596,21 @@ VertexClass TetMesh::classify_vertex(index_t v) const {
 }
 
 void TetMesh::classify_vertices() {
-  for (index_t v = 0; v < vertex_slots(); ++v)
-    vclass_[v] = vertex_alive(v) ? classify_vertex(v) : VertexClass::Inner;
+  const index_t n = vertex_slots();
+#pragma omp parallel if (n >= kParallelMinItems)
+  {
+    WalkMarks marks;
+    std::vector<index_t> ball;
+#pragma omp for schedule(dynamic, 4096)
+    for (index_t v = 0; v < n; ++v) {
+      if (!vertex_alive(v)) {
+        vclass_[v] = VertexClass::Inner;
+        continue;
+      }
+      vertex_ball(v, ball, marks);
+      vclass_[v] = classify_ball(v, ball);
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------

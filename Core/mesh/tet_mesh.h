@@ -155,7 +155,8 @@ class TetMesh {
   /// Classifies every vertex from the regions of its boundary faces: no
   /// boundary face -> Inner; one region and no curve edge -> Surface; exactly
   /// two curve edges -> Curve; otherwise Corner. A curve edge is a boundary
-  /// edge whose two boundary faces have different regions. Called by build().
+  /// edge whose two boundary faces have different regions. build() classifies
+  /// the same way.
   void classify_vertices();
   /// True when (a, b) is a boundary edge whose two boundary faces lie in
   /// different regions (it lies on a boundary curve).
@@ -310,6 +311,8 @@ class TetMesh {
   bool link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
                       const std::vector<index_t>& ball_b, const std::vector<index_t>& ring) const;
   VertexClass classify_vertex(index_t v) const;
+  /// The same from v's ball (every live tet holding v); no scratch.
+  VertexClass classify_ball(index_t v, const std::vector<index_t>& ball) const;
   std::uint32_t next_vertex_stamp() const;
   /// A fresh mark value for tet_mark_ (16 bits: small and cache friendly;
   /// cleared once every 65,535 uses).
