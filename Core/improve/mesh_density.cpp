@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <limits>
 
@@ -56,7 +57,9 @@ void fill_from_neighbours(const std::array<int, 3>& dims, std::vector<double>& v
   while (!layer.empty()) {
     // Values of a layer come from the known entries only (order independent).
     layer_values.assign(layer.size(), 0.0);
-    for (std::size_t n = 0; n < layer.size(); ++n) {
+    const long layer_size = static_cast<long>(layer.size());
+#pragma omp parallel for schedule(static) if (layer_size >= kParallelMinItems)
+    for (long n = 0; n < layer_size; ++n) {
       double sum = 0;
       int count = 0;
       for (const auto& o : offsets) {
@@ -168,9 +171,40 @@ bool DensityGrid::build(const std::vector<Vec3>& points, const std::vector<Tet>&
 
   // Eq. 2.33: each grid point g in tet tau_g takes
   // sum_i V(tau_g^i) rho_i / V(tau_g), tau_g^i being tau_g with vertex i
-  // replaced by g (barycentric interpolation).
+  // replaced by g (barycentric interpolation). A grid point on a face
+  // shared by two tets takes the value from the tet listed first: the tets
+  // are scanned in parallel for the first one that gives each grid point a
+  // value, then each grid point is evaluated in that tet.
   constexpr double kTol = 1e-9;
-  for (const Tet& t : tets) {
+  // The value tet t gives grid point (i, j, k): > 0, or 0 when it gives none.
+  const auto value_in = [&](const Tet& t, int i, int j, int k) {
+    const Vec3 p[4] = {points[t[0]], points[t[1]], points[t[2]], points[t[3]]};
+    const double volume = signed_volume6(p[0], p[1], p[2], p[3]);
+    const Vec3 x = origin_ + h_ * Vec3(i, j, k);
+    double lambda[4];
+    for (int q = 0; q < 4; ++q) {
+      Vec3 r[4] = {p[0], p[1], p[2], p[3]};
+      r[q] = x;
+      lambda[q] = signed_volume6(r[0], r[1], r[2], r[3]) / volume;
+      if (!(lambda[q] >= -kTol)) return 0.0;
+    }
+    double value = 0, weight = 0;
+    for (int q = 0; q < 4; ++q)
+      if (densities[t[q]] > 0) {
+        value += lambda[q] * densities[t[q]];
+        weight += lambda[q];
+      }
+    if (!(weight > 0)) return 0.0;
+    return std::max(value / weight, 0.0);
+  };
+  const long ntets = static_cast<long>(tets.size());
+  std::vector<std::atomic<index_t>> owner(total);
+  const long ntotal = static_cast<long>(total);
+#pragma omp parallel for schedule(static) if (ntotal >= kParallelMinItems)
+  for (long g = 0; g < ntotal; ++g) owner[static_cast<std::size_t>(g)].store(kInvalidIndex, std::memory_order_relaxed);
+#pragma omp parallel for schedule(dynamic, 1024) if (ntets >= kParallelMinItems)
+  for (long ti = 0; ti < ntets; ++ti) {
+    const Tet& t = tets[static_cast<std::size_t>(ti)];
     const Vec3 p[4] = {points[t[0]], points[t[1]], points[t[2]], points[t[3]]};
     const double volume = signed_volume6(p[0], p[1], p[2], p[3]);
     if (volume == 0 || !std::isfinite(volume)) continue;
@@ -187,29 +221,26 @@ bool DensityGrid::build(const std::vector<Vec3>& points, const std::vector<Tet>&
     for (int k = i0[2]; k <= i1[2]; ++k)
       for (int j = i0[1]; j <= i1[1]; ++j)
         for (int i = i0[0]; i <= i1[0]; ++i) {
-          const std::size_t g = point_id(i, j, k);
-          if (known[g]) continue;
-          const Vec3 x = origin_ + h_ * Vec3(i, j, k);
-          double lambda[4];
-          bool inside = true;
-          for (int q = 0; q < 4 && inside; ++q) {
-            Vec3 r[4] = {p[0], p[1], p[2], p[3]};
-            r[q] = x;
-            lambda[q] = signed_volume6(r[0], r[1], r[2], r[3]) / volume;
-            inside = lambda[q] >= -kTol;
+          std::atomic<index_t>& o = owner[point_id(i, j, k)];
+          index_t current = o.load(std::memory_order_relaxed);
+          if (current != kInvalidIndex && current < ti) continue;
+          if (!(value_in(t, i, j, k) > 0)) continue;
+          while ((current == kInvalidIndex || current > ti) &&
+                 !o.compare_exchange_weak(current, static_cast<index_t>(ti), std::memory_order_relaxed)) {
           }
-          if (!inside) continue;
-          double value = 0, weight = 0;
-          for (int q = 0; q < 4; ++q)
-            if (densities[t[q]] > 0) {
-              value += lambda[q] * densities[t[q]];
-              weight += lambda[q];
-            }
-          if (!(weight > 0)) continue;
-          raw_points_[g] = value / weight;
-          known[g] = raw_points_[g] > 0;
         }
   }
+  const int row = n_[0] + 1, rows = (n_[1] + 1) * (n_[2] + 1);
+#pragma omp parallel for schedule(static) if (ntotal >= kParallelMinItems)
+  for (int r = 0; r < rows; ++r)
+    for (int i = 0; i < row; ++i) {
+      const int j = r % (n_[1] + 1), k = r / (n_[1] + 1);
+      const std::size_t g = point_id(i, j, k);
+      const index_t t = owner[g].load(std::memory_order_relaxed);
+      if (t == kInvalidIndex) continue;
+      raw_points_[g] = value_in(tets[static_cast<std::size_t>(t)], i, j, k);
+      known[g] = 1;
+    }
   if (std::find(known.begin(), known.end(), 1) == known.end()) {
     *this = DensityGrid();
     return false;
@@ -224,9 +255,11 @@ bool DensityGrid::build(const std::vector<Vec3>& points, const std::vector<Tet>&
   // cells without any take their neighbour cells' values.
   cell_values_.assign(static_cast<std::size_t>(n_[0]) * n_[1] * n_[2], 0.0);
   std::vector<char> cell_known(cell_values_.size(), 0);
-  for (int k = 0; k < n_[2]; ++k)
-    for (int j = 0; j < n_[1]; ++j)
+  const int cell_rows = n_[1] * n_[2];
+#pragma omp parallel for schedule(static) if (static_cast<long>(cell_values_.size()) >= kParallelMinItems)
+  for (int r = 0; r < cell_rows; ++r)
       for (int i = 0; i < n_[0]; ++i) {
+        const int j = r % n_[1], k = r / n_[1];
         double sum = 0;
         int count = 0;
         for (int c = 0; c < 8; ++c) {

@@ -127,6 +127,40 @@ TEST(MeshDensity, GridExactForLinearFields) {
   EXPECT_TRUE(DensityGrid().empty());
 }
 
+TEST(MeshDensity, GridDoesNotDependOnThreadCount) {
+  // The tets are scanned in parallel; a grid point on a face shared by two
+  // tets (the unjittered cube with the grid on its lattice has many) takes
+  // the value from the first tet, whatever the number of threads.
+  for (const double jitter : {0.0, 0.1}) {
+    const TestMesh m = make_cube_mesh(12, jitter, 5);
+    ASSERT_GE(m.tets.size(), 10000u);  // past the parallel threshold
+    std::vector<double> values(m.points.size());
+    for (std::size_t i = 0; i < values.size(); ++i)
+      values[i] = 2.0 + std::sin(7 * m.points[i].x()) * std::cos(5 * m.points[i].y()) + m.points[i].z();
+    const int threads = omp_get_max_threads();
+    DensityGrid one, two;
+    omp_set_num_threads(1);
+    ASSERT_TRUE(one.build(m.points, m.tets, values, 1.0 / 24));
+    omp_set_num_threads(2);
+    ASSERT_TRUE(two.build(m.points, m.tets, values, 1.0 / 24));
+    omp_set_num_threads(threads);
+    ASSERT_EQ(one.cells(), two.cells());
+    const auto n = one.cells();
+    std::size_t differing = 0;
+    for (int k = 0; k <= n[2]; ++k)
+      for (int j = 0; j <= n[1]; ++j)
+        for (int i = 0; i <= n[0]; ++i) differing += one.point_value(i, j, k) != two.point_value(i, j, k);
+    std::mt19937_64 rng(9);
+    std::uniform_real_distribution<double> u(-0.1, 1.1);
+    for (int s = 0; s < 2000; ++s) {
+      const Vec3 p(u(rng), u(rng), u(rng));
+      differing += one.cell_density(p) != two.cell_density(p);
+      differing += one.density_at(p) != two.density_at(p);
+    }
+    EXPECT_EQ(differing, 0u) << "jitter " << jitter;
+  }
+}
+
 TEST(MeshDensity, MeanDensityErrorClosedForm) {
   // Kuhn cube against a constant field rho: eps = |1/L - rho| / rho per edge.
   const int n = 3;
