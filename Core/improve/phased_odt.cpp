@@ -31,12 +31,13 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 std::size_t count_inverted(const TetMesh& mesh, std::vector<index_t>* ids = nullptr) {
+  const index_t slots = mesh.tet_slots();
   std::size_t n = 0;
-  for (index_t t = 0; t < mesh.tet_slots(); ++t)
-    if (mesh.tet_alive(t) && mesh.orientation(t) < 0) {
-      ++n;
-      if (ids) ids->push_back(t);
-    }
+#pragma omp parallel for schedule(static) reduction(+ : n) if (slots >= kParallelMinItems)
+  for (index_t t = 0; t < slots; ++t) n += mesh.tet_alive(t) && mesh.orientation(t) < 0;
+  if (ids && n > 0)  // rare: listed serially, in id order
+    for (index_t t = 0; t < slots; ++t)
+      if (mesh.tet_alive(t) && mesh.orientation(t) < 0) ids->push_back(t);
   return n;
 }
 

@@ -72,7 +72,9 @@ Measured measure(const CompactMesh& m) {
 }
 
 TEST(UniqueEdges, MatchesTheEdgesOfTheTets) {
-  const testing::TestMesh m = testing::make_cube_mesh(4, 0.1, 3);
+  // 384 tets (serial) and 10,368 (past the parallel threshold).
+  for (const int n : {4, 12}) {
+  const testing::TestMesh m = testing::make_cube_mesh(n, 0.1, 3);
   std::set<Edge> expected;
   for (const Tet& t : m.tets)
     for (int i = 0; i < 4; ++i)
@@ -88,6 +90,7 @@ TEST(UniqueEdges, MatchesTheEdgesOfTheTets) {
   for (const Edge& e : edges)
     if (mask[e.first] && mask[e.second]) flagged.push_back(e);
   EXPECT_EQ(unique_edges(mesh, &mask), flagged);
+  }
 }
 
 // Issue 5 (a) on a planar part: inner vertices jittered by 40%, the target
