@@ -74,22 +74,22 @@ Measured measure(const CompactMesh& m) {
 TEST(UniqueEdges, MatchesTheEdgesOfTheTets) {
   // 384 tets (serial) and 10,368 (past the parallel threshold).
   for (const int n : {4, 12}) {
-  const testing::TestMesh m = testing::make_cube_mesh(n, 0.1, 3);
-  std::set<Edge> expected;
-  for (const Tet& t : m.tets)
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) expected.insert({std::min(t[i], t[j]), std::max(t[i], t[j])});
-  const auto edges = unique_edges(m.tets, static_cast<index_t>(m.points.size()));
-  EXPECT_EQ(std::vector<Edge>(expected.begin(), expected.end()), edges);
-  TetMesh mesh = build(m);
-  EXPECT_EQ(unique_edges(mesh), edges);
-  // With a mask: only edges between flagged vertices.
-  std::vector<char> mask(m.points.size(), 0);
-  for (std::size_t v = 0; v < mask.size(); v += 2) mask[v] = 1;
-  std::vector<Edge> flagged;
-  for (const Edge& e : edges)
-    if (mask[e.first] && mask[e.second]) flagged.push_back(e);
-  EXPECT_EQ(unique_edges(mesh, &mask), flagged);
+    const testing::TestMesh m = testing::make_cube_mesh(n, 0.1, 3);
+    std::set<Edge> expected;
+    for (const Tet& t : m.tets)
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) expected.insert({std::min(t[i], t[j]), std::max(t[i], t[j])});
+    const auto edges = unique_edges(m.tets, static_cast<index_t>(m.points.size()));
+    EXPECT_EQ(std::vector<Edge>(expected.begin(), expected.end()), edges);
+    TetMesh mesh = build(m);
+    EXPECT_EQ(unique_edges(mesh), edges);
+    // With a mask: only edges between flagged vertices.
+    std::vector<char> mask(m.points.size(), 0);
+    for (std::size_t v = 0; v < mask.size(); v += 2) mask[v] = 1;
+    std::vector<Edge> flagged;
+    for (const Edge& e : edges)
+      if (mask[e.first] && mask[e.second]) flagged.push_back(e);
+    EXPECT_EQ(unique_edges(mesh, &mask), flagged);
   }
 }
 
