@@ -52,8 +52,6 @@ double scaled_length(const TetMesh& mesh, const DensityGrid& grid, DensityLookup
   return *length * grid.density_at(0.5 * (p + q), lookup);
 }
 
-constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-
 /// Sorts heap entries by ends and drops the repeats.
 void sort_unique_by_ends(std::vector<HeapEdge>& edges) {
   const auto by_ends = [](const HeapEdge& x, const HeapEdge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; };
@@ -84,7 +82,7 @@ void edges_passing(const TetMesh& mesh, const DensityGrid& grid, DensityLookup l
     for (long t = c * kChunk; t < end; ++t) {
       if (!mesh.tet_alive(static_cast<index_t>(t))) continue;
       const Tet& T = mesh.tet(static_cast<index_t>(t));
-      for (const auto& e : kTetEdges) {
+      for (const auto& e : kTetEdge) {
         const index_t a = std::min(T[e[0]], T[e[1]]), b = std::max(T[e[0]], T[e[1]]);
         if (!masked(mask, a) || !masked(mask, b)) continue;
         double length;

@@ -104,8 +104,7 @@ class FlipEvaluator {
       if (q > kNone) out.push_back({0, t, f, kInvalidIndex, kInvalidIndex, q});
     }
     // Flips 3-2 and 4-4 of each edge.
-    static const int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-    for (const auto& e : kEdges) {
+    for (const auto& e : kTetEdge) {
       const index_t a = T[e[0]], b = T[e[1]];
       if (!closed_ring_up_to_4(a, b, t)) continue;
       const std::size_t n = ring_.size();

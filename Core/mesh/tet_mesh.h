@@ -49,6 +49,8 @@ enum class VertexClass : std::uint8_t { Inner = 0, Surface = 1, Curve = 2, Corne
 /// Local vertices of face f (opposite local vertex f), ordered so that the
 /// face normal (right-hand rule) points out of a positive tet.
 constexpr int kTetFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+/// Local vertices of the six edges of a tet.
+constexpr int kTetEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
 /// Why a local operation was refused.
 enum class OpStatus : std::uint8_t {

@@ -8,8 +8,6 @@ namespace femorph {
 
 namespace {
 
-constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-
 /// tet(t) gives tet t of [0, num_tets) or nullptr for a dead slot; keep(a,
 /// b) filters edges. In parallel: each edge (a < b) goes into a's bucket,
 /// the buckets are deduplicated and sorted per thread, and the result is
@@ -23,7 +21,7 @@ std::vector<Edge> bucket_edges(index_t num_vertices, long num_tets, TetAt&& tet,
   for (long t = 0; t < num_tets; ++t) {
     const Tet* T = tet(t);
     if (!T) continue;
-    for (const auto& e : kTetEdges) {
+    for (const auto& e : kTetEdge) {
       const index_t a = std::min((*T)[e[0]], (*T)[e[1]]), b = std::max((*T)[e[0]], (*T)[e[1]]);
       if (!keep(a, b)) continue;
 #pragma omp atomic
@@ -38,7 +36,7 @@ std::vector<Edge> bucket_edges(index_t num_vertices, long num_tets, TetAt&& tet,
     for (long t = 0; t < num_tets; ++t) {
       const Tet* T = tet(t);
       if (!T) continue;
-      for (const auto& e : kTetEdges) {
+      for (const auto& e : kTetEdge) {
         const index_t a = std::min((*T)[e[0]], (*T)[e[1]]), b = std::max((*T)[e[0]], (*T)[e[1]]);
         if (!keep(a, b)) continue;
         index_t slot;
