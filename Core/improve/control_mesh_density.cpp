@@ -360,13 +360,14 @@ struct CollapseEval {
 /// Step 6 for one candidate without changing the mesh: the rules of
 /// Fig. 2.37, then the best position (the rules' one; with equal classes
 /// also either end) that creates no splittable edge, keeps the stretch floor
-/// and (on the boundary) the chord error. Read only, with the caller's walk
+/// and (on the boundary) the chord error, and the collapse's own checks
+/// there (TetMesh::check_collapse). Read only, with the caller's walk
 /// marks and stamps, so candidates can be evaluated in parallel; a boundary
 /// vertex to be projected (the callback may walk the mesh's own marks) is
 /// left as NeedsProjection unless `may_project`.
 void evaluate_collapse(const TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
                        bool may_project, TetMesh::WalkMarks& marks, std::vector<std::uint32_t>& seen,
-                       std::uint32_t& stamp, CollapseEval& e) {
+                       std::uint32_t& stamp, TetMesh::VertexStamps& link_stamps, CollapseEval& e) {
   const index_t a = e.entry.a, b = e.entry.b;
   e.result = CollapseEval::NotAnEdge;
   e.neighbours.clear();
@@ -458,6 +459,8 @@ void evaluate_collapse(const TetMesh& mesh, const DensityGrid& grid, const Densi
   if (best < 0) return;
   e.position = candidates[best];
   e.projected = e.projected && best == 0;
+  if (mesh.check_collapse(plan.keep, plan.remove, e.position, e.ball_keep, e.ball_remove, link_stamps) != OpStatus::Ok)
+    return;
   e.result = CollapseEval::Accepted;
 }
 
@@ -489,6 +492,7 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
   // No vertex is created here, so the stamps' size is fixed.
   std::vector<std::vector<std::uint32_t>> seen(static_cast<std::size_t>(threads));
   std::vector<std::uint32_t> stamps(static_cast<std::size_t>(threads), 0);
+  std::vector<TetMesh::VertexStamps> link_stamps(static_cast<std::size_t>(threads));
   for (auto& s : seen) s.assign(static_cast<std::size_t>(mesh.vertex_slots()), 0);
   std::vector<std::uint32_t> changed(static_cast<std::size_t>(mesh.vertex_slots()), 0);
   std::uint32_t batch_id = 0;
@@ -517,7 +521,7 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
       const int id = omp_get_thread_num();
       evaluate_collapse(mesh, grid, options, false, marks[static_cast<std::size_t>(id)],
                         seen[static_cast<std::size_t>(id)], stamps[static_cast<std::size_t>(id)],
-                        batch[static_cast<std::size_t>(i)]);
+                        link_stamps[static_cast<std::size_t>(id)], batch[static_cast<std::size_t>(i)]);
     }
     // Step 6 in heap order.
     ++batch_id;
@@ -537,9 +541,11 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
       }
       if (e.result == CollapseEval::NotAnEdge) continue;
       if (e.result == CollapseEval::NeedsProjection)
-        evaluate_collapse(mesh, grid, options, true, marks[0], seen[0], stamps[0], e);
+        evaluate_collapse(mesh, grid, options, true, marks[0], seen[0], stamps[0], link_stamps[0], e);
+      // A fresh candidate was checked on the mesh as it is.
       if (e.result != CollapseEval::Accepted ||
-          mesh.collapse_edge(e.plan.keep, e.plan.remove, &e.position, e.ball_keep, e.ball_remove) != OpStatus::Ok) {
+          mesh.collapse_checked_edge(e.plan.keep, e.plan.remove, e.position, e.ball_keep, e.ball_remove) !=
+              OpStatus::Ok) {
         if (stats) ++stats->refused_collapses;
         continue;
       }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <utility>
 
 namespace femorph {
@@ -24,6 +25,14 @@ inline bool contains(const std::vector<T>& v, const T& x) {
 
 bool TetMesh::link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
                              const std::vector<index_t>& ball_b, const std::vector<index_t>& ring) const {
+  const std::uint32_t in_a = next_vertex_stamp();
+  const std::uint32_t in_ring = next_vertex_stamp();
+  return link_condition(a, b, ball_a, ball_b, ring, vertex_stamp_.data(), in_a, in_ring);
+}
+
+bool TetMesh::link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
+                             const std::vector<index_t>& ball_b, const std::vector<index_t>& ring, std::uint32_t* mark,
+                             std::uint32_t in_a, std::uint32_t in_ring) const {
   // Lk(a) n Lk(b) = Lk(ab) (Dey et al.; thesis 2.6.1.3), with a vertex at
   // infinity joined to every boundary face so that boundary and interior are
   // treated alike. Lk(ab) is the ring of the edge: its opposite vertices R,
@@ -52,9 +61,6 @@ bool TetMesh::link_condition(index_t a, index_t b, const std::vector<index_t>& b
 
   // Marks: every vertex of Lk(a) gets `in_a`, then the ring vertices (a
   // subset) get `in_ring`.
-  const std::uint32_t in_a = next_vertex_stamp();
-  const std::uint32_t in_ring = next_vertex_stamp();
-  std::uint32_t* mark = vertex_stamp_.data();
   bool a_on_boundary = false, b_on_boundary = false;
   for (index_t t : ball_a) {
     const TetRecord& R = rec_[t];
@@ -135,24 +141,10 @@ OpStatus TetMesh::collapse_edge(index_t keep, index_t remove, const Vec3* positi
   return collapse_edge_with(keep, remove, position, &ball_keep, &ball_remove);
 }
 
-OpStatus TetMesh::collapse_edge_with(index_t keep, index_t remove, const Vec3* position,
-                                     const std::vector<index_t>* given_keep,
-                                     const std::vector<index_t>* given_remove) {
-  if (!vertex_alive(keep) || !vertex_alive(remove) || keep == remove) return OpStatus::InvalidArgument;
-  const Vec3 p = position ? *position : points_[keep];
-  if (!p.allFinite()) return OpStatus::InvalidArgument;
-  // remove's ball first: it decides most refusals (not an edge, inverted);
-  // keep's ball is walked only when needed.
-  if (!given_remove) vertex_ball(remove, scratch_ball2_);
-  const std::vector<index_t>& ball_remove = given_remove ? *given_remove : scratch_ball2_;
-  auto positive_after = [&](const Tet& T) {
-    const Vec3* q[4];
-    for (int i = 0; i < 4; ++i) q[i] = (T[i] == keep || T[i] == remove) ? &p : &points_[T[i]];
-    return orient3d_sign(*q[0], *q[1], *q[2], *q[3]) > 0;
-  };
+bool TetMesh::collapse_cavity(index_t keep, index_t remove, const std::vector<index_t>& ball_remove,
+                              std::vector<index_t>& ring) {
   // Tets of ball(remove) off the edge stay, with remove renamed keep; those
   // on the edge vanish.
-  thread_local std::vector<index_t> ring, unchanged;
   ring.clear();
   scratch_new_.clear();
   scratch_origin_.clear();
@@ -170,26 +162,74 @@ OpStatus TetMesh::collapse_edge_with(index_t keep, index_t remove, const Vec3* p
     scratch_new_.push_back(T);
     scratch_origin_.push_back(tet_origin_[t]);
   }
-  if (ring.empty()) return OpStatus::InvalidArgument;  // not an edge
+  return !ring.empty();
+}
+
+OpStatus TetMesh::collapse_edge_with(index_t keep, index_t remove, const Vec3* position,
+                                     const std::vector<index_t>* given_keep,
+                                     const std::vector<index_t>* given_remove) {
+  if (!vertex_alive(keep) || !vertex_alive(remove) || keep == remove) return OpStatus::InvalidArgument;
+  const Vec3 p = position ? *position : points_[keep];
+  if (!given_remove) vertex_ball(remove, scratch_ball2_);
+  if (!given_keep) vertex_ball(keep, scratch_ball_);
+  const std::vector<index_t>& ball_remove = given_remove ? *given_remove : scratch_ball2_;
+  const std::vector<index_t>& ball_keep = given_keep ? *given_keep : scratch_ball_;
+  const OpStatus checked = check_collapse(keep, remove, p, ball_keep, ball_remove, link_stamps_);
+  if (checked != OpStatus::Ok) return checked;
+  return collapse_checked_edge(keep, remove, p, ball_keep, ball_remove);
+}
+
+OpStatus TetMesh::check_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_keep,
+                                 const std::vector<index_t>& ball_remove, VertexStamps& stamps) const {
+  if (!vertex_alive(keep) || !vertex_alive(remove) || keep == remove || !p.allFinite())
+    return OpStatus::InvalidArgument;
+  // Not an edge; a tet of remove's ball that stays (remove renamed keep)
+  // or of keep's ball (keep moved to p) would not be positive; the link
+  // condition last, as it costs more than the orientation tests.
+  auto positive_after = [&](const Tet& T) {
+    const Vec3* q[4];
+    for (int i = 0; i < 4; ++i) q[i] = (T[i] == keep || T[i] == remove) ? &p : &points_[T[i]];
+    return orient3d_sign(*q[0], *q[1], *q[2], *q[3]) > 0;
+  };
+  thread_local std::vector<index_t> ring;
+  ring.clear();
+  for (index_t t : ball_remove)
+    if (local_index(t, keep) >= 0) ring.push_back(t);
+  if (ring.empty()) return OpStatus::InvalidArgument;
   for (index_t t : ball_remove)
     if (local_index(t, keep) < 0 && !positive_after(rec_[t].v) && !(keep_inverted_ && orientation(t) < 0))
       return OpStatus::Inverted;
-  // Tets of ball(keep) off the edge stay, with keep moved to p.
-  if (!given_keep) vertex_ball(keep, scratch_ball_);
-  const std::vector<index_t>& ball_keep = given_keep ? *given_keep : scratch_ball_;
+  if (p != points_[keep])
+    for (index_t t : ball_keep)
+      if (local_index(t, remove) < 0 && !positive_after(rec_[t].v)) return OpStatus::Inverted;
+  if (stamps.stamp.size() < points_.size()) stamps.stamp.resize(points_.size(), 0);
+  if (stamps.value >= std::numeric_limits<std::uint32_t>::max() - 2) {
+    std::fill(stamps.stamp.begin(), stamps.stamp.end(), 0);
+    stamps.value = 0;
+  }
+  const std::uint32_t in_a = ++stamps.value, in_ring = ++stamps.value;
+  if (!link_condition(keep, remove, ball_keep, ball_remove, ring, stamps.stamp.data(), in_a, in_ring))
+    return OpStatus::LinkCondition;
+  return OpStatus::Ok;
+}
+
+OpStatus TetMesh::collapse_checked_edge(index_t keep, index_t remove, const Vec3& p,
+                                        const std::vector<index_t>& ball_keep,
+                                        const std::vector<index_t>& ball_remove) {
+  thread_local std::vector<index_t> ring, unchanged;
+  if (!collapse_cavity(keep, remove, ball_remove, ring)) return OpStatus::InvalidArgument;
   unchanged.clear();
   for (index_t t : ball_keep)
     if (local_index(t, remove) < 0) unchanged.push_back(t);
-  const bool moved = p != points_[keep];
-  if (moved)
-    for (index_t t : unchanged)
-      if (!positive_after(rec_[t].v)) return OpStatus::Inverted;
-  // Topology last: it costs more than the orientation tests.
-  if (!link_condition(keep, remove, ball_keep, ball_remove, ring)) return OpStatus::LinkCondition;
+  commit_collapse(keep, remove, p, ball_remove, unchanged);
+  return OpStatus::Ok;
+}
 
-  // Commit. Point data of the merged vertex: linear along the edge at the
+void TetMesh::commit_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_remove,
+                              const std::vector<index_t>& unchanged) {
+  // Point data of the merged vertex: linear along the edge at the
   // projection of p (unchanged when p is keep's position).
-  if (moved) {
+  if (p != points_[keep]) {
     const Vec3 e = points_[remove] - points_[keep];
     const double len2 = e.squaredNorm();
     double s = len2 > 0 ? (p - points_[keep]).dot(e) / len2 : 0.0;
@@ -208,7 +248,6 @@ OpStatus TetMesh::collapse_edge_with(index_t keep, index_t remove, const Vec3* p
   if (!tet_alive(vertex_tet_[keep]) || local_index(vertex_tet_[keep], keep) < 0) vertex_tet_[keep] = unchanged.front();
   // Tets of keep's ball that only moved are touched too.
   touched_.insert(touched_.end(), unchanged.begin(), unchanged.end());
-  return OpStatus::Ok;
 }
 
 OpStatus TetMesh::half_edge_collapse_keeping_inverted(index_t remove, index_t keep) {

@@ -787,7 +787,7 @@ std::size_t TetMesh::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   return bytes(points_) + bytes(rec_) + bytes(vertex_tet_) + bytes(vclass_) +
          bytes(tet_origin_) + bytes(vertex_origin_) + bytes(free_tets_) + bytes(free_vertices_) +
-         bytes(tet_mark_) + bytes(vertex_stamp_) + bytes(scratch_ring_) + bytes(scratch_verts_) + bytes(scratch_ball_) +
+         bytes(tet_mark_) + bytes(vertex_stamp_) + bytes(link_stamps_.stamp) + bytes(scratch_ring_) + bytes(scratch_verts_) + bytes(scratch_ball_) +
          bytes(scratch_ball2_) + bytes(scratch_new_) + bytes(scratch_origin_) + bytes(touched_);
 }
 

@@ -238,6 +238,22 @@ class TetMesh {
   /// spared).
   OpStatus collapse_edge(index_t keep, index_t remove, const Vec3* position, const std::vector<index_t>& ball_keep,
                          const std::vector<index_t>& ball_remove);
+  /// Per-caller vertex stamps for check_collapse from several threads.
+  struct VertexStamps {
+    std::vector<std::uint32_t> stamp;
+    std::uint32_t value = 0;
+  };
+  /// The checks of collapse_edge(keep, remove, &p, ball_keep, ball_remove)
+  /// without changing the mesh: Ok when it would collapse. Read only, with
+  /// the caller's stamps: safe from several threads at once while the mesh
+  /// does not change.
+  OpStatus check_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_keep,
+                          const std::vector<index_t>& ball_remove, VertexStamps& stamps) const;
+  /// collapse_edge(keep, remove, &p, ball_keep, ball_remove) for a caller
+  /// whose check_collapse with the same arguments returned Ok on the mesh as
+  /// it still is: the checks are not repeated.
+  OpStatus collapse_checked_edge(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_keep,
+                                 const std::vector<index_t>& ball_remove);
   /// Half-edge collapse (Fig. 2.39): `remove` moves onto `keep`.
   OpStatus half_edge_collapse(index_t remove, index_t keep) { return collapse_edge(keep, remove, nullptr); }
   /// Half-edge collapse for the inverted element removal (thesis 2.6.2,
@@ -305,13 +321,25 @@ class TetMesh {
   /// Whether an open ring (from edge_ring_with_vertices) lies on a curve:
   /// its two boundary faces have different regions.
   bool open_ring_on_curve(const std::vector<index_t>& ring, const std::vector<index_t>& opposite) const;
+  OpStatus collapse_edge_with(index_t keep, index_t remove, const Vec3* position,
+                              const std::vector<index_t>* given_keep, const std::vector<index_t>* given_remove);
+  /// The tets of ball_remove on the edge into `ring`, the others, renamed,
+  /// into scratch_new_ / scratch_origin_; false when (keep, remove) is no edge.
+  bool collapse_cavity(index_t keep, index_t remove, const std::vector<index_t>& ball_remove,
+                       std::vector<index_t>& ring);
+  /// The change of a collapse whose checks passed (collapse_cavity filled
+  /// the scratch); `unchanged`: the tets of ball_keep off the edge.
+  void commit_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_remove,
+                       const std::vector<index_t>& unchanged);
   /// Link condition of thesis 2.6.1.3 / Dey et al. for collapsing (a, b):
   /// Lk(a) n Lk(b) = Lk(ab), with a vertex at infinity coning the boundary.
   /// ball_a, ball_b: the balls of a and b; ring: the tets on the edge.
-  OpStatus collapse_edge_with(index_t keep, index_t remove, const Vec3* position,
-                              const std::vector<index_t>* given_keep, const std::vector<index_t>* given_remove);
   bool link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
                       const std::vector<index_t>& ball_b, const std::vector<index_t>& ring) const;
+  /// The same with vertex marks `mark` and two fresh stamp values.
+  bool link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a, const std::vector<index_t>& ball_b,
+                      const std::vector<index_t>& ring, std::uint32_t* mark, std::uint32_t in_a,
+                      std::uint32_t in_ring) const;
   VertexClass classify_vertex(index_t v) const;
   /// The same from v's ball (every live tet holding v); no scratch.
   VertexClass classify_ball(index_t v, const std::vector<index_t>& ball) const;
@@ -346,6 +374,7 @@ class TetMesh {
   mutable std::vector<std::uint16_t> tet_mark_;
   mutable std::uint16_t tet_mark_value_ = 0;
   mutable std::vector<std::uint32_t> vertex_stamp_;
+  VertexStamps link_stamps_;  // check_collapse from collapse_edge
   mutable std::uint32_t vertex_stamp_value_ = 0;
   mutable std::vector<index_t> scratch_ring_, scratch_verts_, scratch_ball_, scratch_ball2_;
   std::vector<Tet> scratch_new_;

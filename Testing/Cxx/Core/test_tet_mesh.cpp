@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 namespace femorph {
@@ -441,6 +442,61 @@ TEST(CollapseEdge, GivenBallsGiveTheSameMesh) {
     }
   }
   expect_valid(given);
+}
+
+TEST(CollapseEdge, CheckThenCollapseMatchesCollapseEdge) {
+  // check_collapse (read only, the caller's stamps) refuses exactly what
+  // collapse_edge refuses, and collapse_checked_edge then changes the mesh
+  // as collapse_edge does; at the midpoint and at keep's position.
+  for (const bool half : {false, true}) {
+    const testing::TestMesh cube = testing::make_cube_mesh(3, 0.2, 7);
+    TetMesh plain, checked;
+    ASSERT_TRUE(plain.build(cube.points, cube.tets).ok);
+    ASSERT_TRUE(checked.build(cube.points, cube.tets).ok);
+    std::size_t done = 0;
+    std::map<OpStatus, std::size_t> refused;
+    std::vector<index_t> ball_keep, ball_remove, neighbours;
+    TetMesh::VertexStamps stamps;
+    for (index_t a = 0; a < plain.vertex_slots(); ++a) {
+      if (!plain.vertex_alive(a)) continue;
+      plain.vertex_neighbors(a, neighbours);
+      for (const index_t b : neighbours) {
+        if (!plain.vertex_alive(b) || !plain.has_edge(a, b)) continue;
+        const Vec3 p = half ? plain.point(a) : Vec3(0.5 * (plain.point(a) + plain.point(b)));
+        checked.vertex_ball(a, ball_keep);
+        checked.vertex_ball(b, ball_remove);
+        const OpStatus s1 = plain.collapse_edge(a, b, &p);
+        const OpStatus s2 = checked.check_collapse(a, b, p, ball_keep, ball_remove, stamps);
+        ASSERT_EQ(s1, s2);
+        if (s2 == OpStatus::Ok) {
+          ASSERT_EQ(checked.collapse_checked_edge(a, b, p, ball_keep, ball_remove), OpStatus::Ok);
+          ++done;
+        } else {
+          ++refused[s2];
+        }
+        if (s1 == OpStatus::Ok) break;
+      }
+    }
+    EXPECT_GT(done, 5u);
+    EXPECT_GT(refused[OpStatus::LinkCondition], 0u);
+    EXPECT_GT(refused[OpStatus::Inverted], 0u);
+    ASSERT_EQ(plain.tet_slots(), checked.tet_slots());
+    for (index_t t = 0; t < plain.tet_slots(); ++t) {
+      ASSERT_EQ(plain.tet_alive(t), checked.tet_alive(t));
+      if (plain.tet_alive(t)) {
+        EXPECT_EQ(plain.tet(t), checked.tet(t));
+      }
+    }
+    for (index_t v = 0; v < plain.vertex_slots(); ++v) {
+      ASSERT_EQ(plain.vertex_alive(v), checked.vertex_alive(v));
+      if (plain.vertex_alive(v)) {
+        EXPECT_EQ(plain.point(v), checked.point(v));
+        EXPECT_EQ(plain.vertex_class(v), checked.vertex_class(v));
+      }
+    }
+    EXPECT_TRUE(checked.check_consistency().ok);
+    expect_valid(checked);
+  }
 }
 
 // ---------------------------------------------------------------------------
