@@ -1,6 +1,3 @@
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
 // Phase (2) of Phased ODT smoothing (thesis 2.6.5.3): Eq. 2.34 over the
 // surface triangles around each surface vertex, in the 2D parameter plane of
 // its fitted region (Fig. 2.43, 2.44 steps 1-3).
@@ -245,9 +242,7 @@ SurfaceStencils surface_stencils(const TetMesh& mesh, const BoundaryGeometry& ge
 OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geometry,
                                    const BoundarySmoothOptions& options) {
   OdtSmoothReport report;
-  auto T0 = std::chrono::steady_clock::now();
   const SurfaceStencils st = surface_stencils(mesh, geometry, options);
-  struct Tr { std::chrono::steady_clock::time_point t0, t1; std::size_t n; ~Tr() { if (std::getenv("FEMORPH_TRACE")) std::fprintf(stderr, "[S] stencils %.3f sweeps %.3f (%zu vertices)\n", std::chrono::duration<double>(t1 - t0).count(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count(), n); } } tr{T0, std::chrono::steady_clock::now(), st.vertex.size()};
   std::vector<index_t> ball, link;
   std::vector<std::array<index_t, 3>> ring;
   std::vector<std::array<int, 2>> ring_local;

@@ -1,5 +1,3 @@
-#include <cstdio>
-#include <cstdlib>
 // Phased ODT smoothing, thesis 2.6.1.2 (Fig. 2.34).
 #include "improve/phased_odt.h"
 
@@ -347,7 +345,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
           SurfaceFlipOptions sfo;
           sfo.vertex_mask = smooth_mask;
           sfo.min_stretch = options.quality_floor;
-          auto T0 = Clock::now(); stats.surface_flips += flip_surface_edges(mesh, geometry, sfo).flips; if (std::getenv("FEMORPH_TRACE")) std::fprintf(stderr, "[S] flips %.3f\n", seconds_since(T0));
+          stats.surface_flips += flip_surface_edges(mesh, geometry, sfo).flips;
         }
       } else {
         OdtSmoothOptions oso;
