@@ -14,6 +14,8 @@
 #include <cmath>
 #include <limits>
 
+#include <omp.h>
+
 namespace femorph {
 
 namespace {
@@ -237,12 +239,57 @@ SurfaceStencils surface_stencils(const TetMesh& mesh, const BoundaryGeometry& ge
   return out;
 }
 
-}  // namespace
+/// The order of a sweep: the stencil vertices grouped by colour, no two of
+/// one colour reading each other's position (a vertex reads the positions
+/// of its ball's vertices and of its opposite vertices), so that a colour
+/// moves in parallel. Greedy in stencil order, so the same whatever the
+/// number of threads. colour_start[c] .. colour_start[c + 1]: colour c.
+std::vector<std::size_t> colour_order(const TetMesh& mesh, const SurfaceStencils& st,
+                                      std::vector<std::size_t>& colour_start) {
+  const std::size_t n = st.vertex.size();
+  std::vector<index_t> entry(static_cast<std::size_t>(mesh.vertex_slots()), kInvalidIndex);
+  for (std::size_t i = 0; i < n; ++i) entry[st.vertex[i]] = static_cast<index_t>(i);
+  // Who reads i through an opposite vertex (not symmetric, unlike the balls).
+  std::vector<std::size_t> read_start(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = st.ring_start[i]; k < st.ring_start[i + 1]; ++k)
+      if (st.opposite[k] >= 0 && entry[st.opposite[k]] >= 0) ++read_start[entry[st.opposite[k]] + 1];
+  for (std::size_t i = 0; i < n; ++i) read_start[i + 1] += read_start[i];
+  std::vector<index_t> readers(read_start[n]);
+  {
+    std::vector<std::size_t> fill(read_start.begin(), read_start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t k = st.ring_start[i]; k < st.ring_start[i + 1]; ++k)
+        if (st.opposite[k] >= 0 && entry[st.opposite[k]] >= 0)
+          readers[fill[entry[st.opposite[k]]]++] = static_cast<index_t>(i);
+  }
+  std::vector<int> colour(n, -1);
+  std::vector<char> used;
+  int colours = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    used.assign(static_cast<std::size_t>(colours) + 1, 0);
+    const auto mark = [&](index_t w) {
+      if (w >= 0 && entry[w] >= 0 && colour[entry[w]] >= 0) used[colour[entry[w]]] = 1;
+    };
+    for (std::size_t k = st.ball_start[i]; k < st.ball_start[i + 1]; ++k)
+      for (const index_t w : mesh.tet(st.ball[k])) mark(w);
+    for (std::size_t k = st.ring_start[i]; k < st.ring_start[i + 1]; ++k) mark(st.opposite[k]);
+    for (std::size_t k = read_start[i]; k < read_start[i + 1]; ++k) mark(st.vertex[readers[k]]);
+    int c = 0;
+    while (used[c]) ++c;
+    colour[i] = c;
+    colours = std::max(colours, c + 1);
+  }
+  colour_start.assign(static_cast<std::size_t>(colours) + 1, 0);
+  for (const int c : colour) ++colour_start[c + 1];
+  for (int c = 0; c < colours; ++c) colour_start[c + 1] += colour_start[c];
+  std::vector<std::size_t> order(n), slot(colour_start.begin(), colour_start.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) order[slot[colour[i]]++] = i;
+  return order;
+}
 
-OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geometry,
-                                   const BoundarySmoothOptions& options) {
-  OdtSmoothReport report;
-  const SurfaceStencils st = surface_stencils(mesh, geometry, options);
+/// One thread's scratch for smoothing a surface vertex.
+struct SurfaceScratch {
   std::vector<index_t> ball, link;
   std::vector<std::array<index_t, 3>> ring;
   std::vector<std::array<int, 2>> ring_local;
@@ -252,15 +299,35 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
   std::vector<int> old_sign;
   Chart chart;
   SurfacePrimitive tangent_plane;
+};
 
-  for (int sweep = 0; sweep < options.iterations; ++sweep) {
-    ++report.sweeps;
-    double max_step = 0;
-    for (std::size_t i = 0; i < st.vertex.size(); ++i) {
+}  // namespace
+
+OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geometry,
+                                   const BoundarySmoothOptions& options) {
+  OdtSmoothReport report;
+  const SurfaceStencils st = surface_stencils(mesh, geometry, options);
+  std::vector<std::size_t> colour_start;
+  const std::vector<std::size_t> order = colour_order(mesh, st, colour_start);
+  std::vector<SurfaceScratch> scratch(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+
+  // One vertex: 1 moved (*step: its move over its mean edge length), 0
+  // refused, -1 left (already there, or no chart).
+  const auto smooth_vertex = [&](std::size_t i, SurfaceScratch& sc, double* step_out, std::size_t* halvings) -> int {
+      std::vector<index_t>& ball = sc.ball;
+      std::vector<index_t>& link = sc.link;
+      std::vector<std::array<index_t, 3>>& ring = sc.ring;
+      std::vector<std::array<int, 2>>& ring_local = sc.ring_local;
+      std::vector<Vec2>& link2 = sc.link2;
+      std::vector<Vec2>& opposite2 = sc.opposite2;
+      std::vector<std::uint8_t>& has_opposite = sc.has_opposite;
+      std::vector<int>& old_sign = sc.old_sign;
+      Chart& chart = sc.chart;
+      SurfacePrimitive& tangent_plane = sc.tangent_plane;
       const index_t v = st.vertex[i];
       const VertexConstraint& c = st.constraint[i];
       const Vec3 x = mesh.point(v);
-      if (c.kind == VertexConstraint::Surface && !chart.init(*c.surface, x)) continue;
+      if (c.kind == VertexConstraint::Surface && !chart.init(*c.surface, x)) return -1;
       ball.assign(st.ball.begin() + static_cast<std::ptrdiff_t>(st.ball_start[i]),
                   st.ball.begin() + static_cast<std::ptrdiff_t>(st.ball_start[i + 1]));
       const auto r0 = static_cast<std::ptrdiff_t>(st.ring_start[i]),
@@ -274,11 +341,11 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
       if (c.kind == VertexConstraint::Discrete) {
         Vec3 normal = Vec3::Zero();
         for (const auto& r : ring) normal += (mesh.point(r[0]) - x).cross(mesh.point(r[1]) - x);
-        if (!(normal.norm() > 0)) continue;
+        if (!(normal.norm() > 0)) return -1;
         tangent_plane.type = SurfaceType::Plane;
         tangent_plane.point = x;
         tangent_plane.axis = normal.normalized();
-        if (!chart.init(tangent_plane, x)) continue;
+        if (!chart.init(tangent_plane, x)) return -1;
       }
       // Step 1 (Fig. 2.44): map v and its ring to the parameter plane.
       const Vec2 x2 = chart.map(x);
@@ -330,7 +397,7 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
       for (int& s : old_sign) s = s == orientation ? s : 0;
       const Vec2 step = sum / static_cast<double>(ring.size()) - x2;
       const double relative = step.norm() / len;
-      if (!std::isfinite(relative) || relative <= options.tolerance * 1e-3) continue;  // already there
+      if (!std::isfinite(relative) || relative <= options.tolerance * 1e-3) return -1;  // already there
 
       // Step 3: map back, project onto the surface; alpha halved while the
       // move inverts a tet, folds a ring triangle or lowers the ball's quality.
@@ -350,15 +417,32 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
                 return !options.acceptable_error ||
                        chords_within_error(mesh, geometry, *options.acceptable_error, v, p, ball);
               },
-              &report.halvings) > 0;
-      const Vec3& p = mesh.point(v);
-      if (accepted) {
-        ++report.moved;
-        max_step = std::max(max_step, (p - x).norm() / len);
-      } else {
-        ++report.refused;
+              halvings) > 0;
+      if (!accepted) return 0;
+      *step_out = (mesh.point(v) - x).norm() / len;
+      return 1;
+  };
+
+  for (int sweep = 0; sweep < options.iterations; ++sweep) {
+    ++report.sweeps;
+    double max_step = 0;
+    std::size_t moved = 0, refused = 0, halvings = 0;
+    for (std::size_t c = 0; c + 1 < colour_start.size(); ++c) {
+      const long first = static_cast<long>(colour_start[c]), last = static_cast<long>(colour_start[c + 1]);
+#pragma omp parallel for schedule(dynamic, 64) reduction(max : max_step) reduction(+ : moved, refused, halvings) \
+    if (last - first >= 128)
+      for (long k = first; k < last; ++k) {
+        double step = 0;
+        const int r = smooth_vertex(order[static_cast<std::size_t>(k)],
+                                    scratch[static_cast<std::size_t>(omp_get_thread_num())], &step, &halvings);
+        moved += r == 1;
+        refused += r == 0;
+        if (r == 1) max_step = std::max(max_step, step);
       }
     }
+    report.moved += moved;
+    report.refused += refused;
+    report.halvings += halvings;
     report.last_max_step = max_step;
     if (max_step <= options.tolerance) {
       report.converged = true;

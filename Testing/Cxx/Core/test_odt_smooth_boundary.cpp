@@ -12,6 +12,7 @@
 #include "test_surfaces.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -239,6 +240,34 @@ TEST(OdtSmoothBoundary, CubeFacesAndEdgesImproveOnTheirPlanesAndLines) {
       }
     }
   }
+}
+
+TEST(OdtSmoothBoundary, SurfaceSmoothingDoesNotDependOnThreadCount) {
+  // The surface vertices move by colours, each colour in parallel: the same
+  // mesh with one thread and with two, and the faces stay on their planes.
+  const int n = 20;  // about 200 surface vertices per colour, past the parallel threshold
+  TetMesh start = build(testing::make_cube_mesh(n, 0.1, 7));
+  ASSERT_GT(perturb_cube_boundary(start, n, 0.3, 11), 2000);
+  const BoundaryGeometry geometry = cube_geometry(true);
+  const int threads = omp_get_max_threads();
+  TetMesh one = start, two = start;
+  BoundarySmoothOptions options;
+  omp_set_num_threads(1);
+  const OdtSmoothReport r1 = odt_smooth_surface(one, geometry, options);
+  omp_set_num_threads(2);
+  const OdtSmoothReport r2 = odt_smooth_surface(two, geometry, options);
+  omp_set_num_threads(threads);
+  std::printf("cube n = %d: surface moved %zu / %zu, refused %zu / %zu, halvings %zu / %zu\n", n, r1.moved, r2.moved,
+              r1.refused, r2.refused, r1.halvings, r2.halvings);
+  EXPECT_GT(r1.moved, 2000u);
+  EXPECT_EQ(r1.moved, r2.moved);
+  EXPECT_EQ(r1.refused, r2.refused);
+  EXPECT_EQ(r1.halvings, r2.halvings);
+  std::size_t differing = 0;
+  for (index_t v = 0; v < one.vertex_slots(); ++v) differing += !same_point(one.point(v), two.point(v));
+  EXPECT_EQ(differing, 0u);
+  expect_on_cube(two);
+  expect_valid(two, 1.0);
 }
 
 TEST(OdtSmoothBoundary, MaskedOutVerticesStay) {
