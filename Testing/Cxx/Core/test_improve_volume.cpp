@@ -9,9 +9,9 @@
 #include "mesh/tet_mesh.h"
 #include "quality/check_validity.h"
 #include "test_meshes.h"
+#include "test_threads.h"
 
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -112,12 +112,8 @@ TEST(ImproveVolume, SmoothingDoesNotDependOnThreadCount) {
   ASSERT_TRUE(m.build(cube.points, cube.tets).ok);
   ASSERT_GT(perturb_inner_vertices(m, 0.4, 7), 1000);
   TetMesh one = m, two = m;
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
-  const OdtSmoothReport r1 = odt_smooth_volume(one);
-  omp_set_num_threads(2);
-  const OdtSmoothReport r2 = odt_smooth_volume(two);
-  omp_set_num_threads(threads);
+  const OdtSmoothReport r1 = testing::with_threads(1, [&] { return odt_smooth_volume(one); });
+  const OdtSmoothReport r2 = testing::with_threads(2, [&] { return odt_smooth_volume(two); });
   EXPECT_GT(r1.moved, 1000u);
   EXPECT_EQ(r1.moved, r2.moved);
   EXPECT_EQ(r1.halvings, r2.halvings);
@@ -135,12 +131,8 @@ TEST(ImproveVolume, FlipsDoNotDependOnThreadCount) {
   ASSERT_TRUE(m.build(cube.points, cube.tets).ok);
   ASSERT_GT(perturb_inner_vertices(m, 0.4, 7), 1000);
   TetMesh one = m, two = m;
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
-  const FlipImproveReport r1 = improve_tets_by_flips(one, FlipImproveOptions());
-  omp_set_num_threads(2);
-  const FlipImproveReport r2 = improve_tets_by_flips(two, FlipImproveOptions());
-  omp_set_num_threads(threads);
+  const FlipImproveReport r1 = testing::with_threads(1, [&] { return improve_tets_by_flips(one, FlipImproveOptions()); });
+  const FlipImproveReport r2 = testing::with_threads(2, [&] { return improve_tets_by_flips(two, FlipImproveOptions()); });
   std::printf("flips %zu / %zu, visits %zu / %zu\n", r1.total(), r2.total(), r1.visits, r2.visits);
   EXPECT_GT(r1.total(), 500u);
   EXPECT_EQ(r1.total(), r2.total());

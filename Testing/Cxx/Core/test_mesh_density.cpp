@@ -8,9 +8,9 @@
 #include "quality/tet_quality.h"
 
 #include "../test_meshes.h"
+#include "../test_threads.h"
 
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <cmath>
 #include <algorithm>
@@ -137,13 +137,9 @@ TEST(MeshDensity, GridDoesNotDependOnThreadCount) {
     std::vector<double> values(m.points.size());
     for (std::size_t i = 0; i < values.size(); ++i)
       values[i] = 2.0 + std::sin(7 * m.points[i].x()) * std::cos(5 * m.points[i].y()) + m.points[i].z();
-    const int threads = omp_get_max_threads();
     DensityGrid one, two;
-    omp_set_num_threads(1);
-    ASSERT_TRUE(one.build(m.points, m.tets, values, 1.0 / 24));
-    omp_set_num_threads(2);
-    ASSERT_TRUE(two.build(m.points, m.tets, values, 1.0 / 24));
-    omp_set_num_threads(threads);
+    ASSERT_TRUE(testing::with_threads(1, [&] { return one.build(m.points, m.tets, values, 1.0 / 24); }));
+    ASSERT_TRUE(testing::with_threads(2, [&] { return two.build(m.points, m.tets, values, 1.0 / 24); }));
     ASSERT_EQ(one.cells(), two.cells());
     const auto n = one.cells();
     std::size_t differing = 0;
@@ -352,12 +348,9 @@ TEST(MeshDensity, VertexMaskRestrictsTheControl) {
 // collapsed, and one stretched x3, so that thousands are split).
 TEST(MeshDensity, SplitsAndCollapsesDoNotDependOnThreadCount) {
   for (const double factor : {0.5, 3.0}) {
-    const int threads = omp_get_max_threads();
-    omp_set_num_threads(1);
-    const DensityRun one = run_stretched(12, 0.1, factor, DensityControlOptions{});
-    omp_set_num_threads(2);
-    const DensityRun two = run_stretched(12, 0.1, factor, DensityControlOptions{});
-    omp_set_num_threads(threads);
+    const auto run = [factor] { return run_stretched(12, 0.1, factor, DensityControlOptions{}); };
+    const DensityRun one = testing::with_threads(1, run);
+    const DensityRun two = testing::with_threads(2, run);
     std::printf("x%.1f: splits %zu / %zu, collapses %zu / %zu, refused %zu / %zu\n", factor, one.stats.splits,
                 two.stats.splits, one.stats.collapses, two.stats.collapses, one.stats.refused_collapses,
                 two.stats.refused_collapses);

@@ -9,10 +9,10 @@
 #include "quality/check_validity.h"
 #include "test_improve_meshes.h"
 #include "test_meshes.h"
+#include "test_threads.h"
 #include "test_surfaces.h"
 
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -249,14 +249,9 @@ TEST(OdtSmoothBoundary, SurfaceSmoothingDoesNotDependOnThreadCount) {
   TetMesh start = build(testing::make_cube_mesh(n, 0.1, 7));
   ASSERT_GT(perturb_cube_boundary(start, n, 0.3, 11), 2000);
   const BoundaryGeometry geometry = cube_geometry(true);
-  const int threads = omp_get_max_threads();
   TetMesh one = start, two = start;
-  BoundarySmoothOptions options;
-  omp_set_num_threads(1);
-  const OdtSmoothReport r1 = odt_smooth_surface(one, geometry, options);
-  omp_set_num_threads(2);
-  const OdtSmoothReport r2 = odt_smooth_surface(two, geometry, options);
-  omp_set_num_threads(threads);
+  const OdtSmoothReport r1 = testing::with_threads(1, [&] { return odt_smooth_surface(one, geometry); });
+  const OdtSmoothReport r2 = testing::with_threads(2, [&] { return odt_smooth_surface(two, geometry); });
   std::printf("cube n = %d: surface moved %zu / %zu, refused %zu / %zu, halvings %zu / %zu\n", n, r1.moved, r2.moved,
               r1.refused, r2.refused, r1.halvings, r2.halvings);
   EXPECT_GT(r1.moved, 2000u);
