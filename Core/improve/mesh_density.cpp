@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <limits>
 
+#include <omp.h>
+
 namespace femorph {
 
 namespace {
@@ -29,58 +31,90 @@ double signed_volume6(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d
 
 /// Fills the entries of `values` with known[i] == 0 layer by layer: an
 /// unknown entry next to known ones (6-neighbourhood of a grid with
-/// dims[0] x dims[1] x dims[2] entries) takes the mean of their values.
+/// dims[0] x dims[1] x dims[2] entries) takes the mean of their values. A
+/// layer's values come from the entries known before it and its members are
+/// all the unqueued neighbours of the layer before, so neither depends on
+/// the order in which the threads find them.
 void fill_from_neighbours(const std::array<int, 3>& dims, std::vector<double>& values,
                           std::vector<char>& known) {
-  const auto id = [&](int i, int j, int k) {
-    return (static_cast<std::size_t>(k) * dims[1] + j) * dims[0] + i;
-  };
+  const long total = static_cast<long>(dims[0]) * dims[1] * dims[2];
+  const bool parallel = total >= kParallelMinItems;
   const int offsets[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
-  std::vector<std::array<int, 3>> layer, next;
+  // The entry next to q across offset o, or -1 off the grid.
+  const auto neighbour = [&](long q, const int* o) -> long {
+    const int i = static_cast<int>(q % dims[0]), j = static_cast<int>((q / dims[0]) % dims[1]),
+              k = static_cast<int>(q / (static_cast<long>(dims[0]) * dims[1]));
+    const int a = i + o[0], b = j + o[1], c = k + o[2];
+    if (a < 0 || b < 0 || c < 0 || a >= dims[0] || b >= dims[1] || c >= dims[2]) return -1;
+    return (static_cast<long>(c) * dims[1] + b) * dims[0] + a;
+  };
   std::vector<char> queued(known);
-  const auto push_unknown_neighbours = [&](int i, int j, int k, std::vector<std::array<int, 3>>& out) {
-    for (const auto& o : offsets) {
-      const int a = i + o[0], b = j + o[1], c = k + o[2];
-      if (a < 0 || b < 0 || c < 0 || a >= dims[0] || b >= dims[1] || c >= dims[2]) continue;
-      const std::size_t q = id(a, b, c);
-      if (!queued[q]) {
-        queued[q] = 1;
-        out.push_back({{a, b, c}});
+  std::vector<long> layer;
+  const int threads = std::max(1, omp_get_max_threads());
+  std::vector<std::vector<long>> found(static_cast<std::size_t>(threads));
+  // Layer 0: the unknown entries next to a known one.
+#pragma omp parallel if (parallel)
+  {
+    std::vector<long>& out = found[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(static)
+    for (long q = 0; q < total; ++q) {
+      if (known[static_cast<std::size_t>(q)]) continue;
+      for (const auto& o : offsets) {
+        const long r = neighbour(q, o);
+        if (r >= 0 && known[static_cast<std::size_t>(r)]) {
+          out.push_back(q);
+          break;
+        }
       }
     }
-  };
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i)
-        if (known[id(i, j, k)]) push_unknown_neighbours(i, j, k, layer);
+  }
+  for (std::vector<long>& f : found) {
+    layer.insert(layer.end(), f.begin(), f.end());
+    f.clear();  // a region run by fewer threads leaves the others' lists alone
+  }
+  for (const long q : layer) queued[static_cast<std::size_t>(q)] = 1;
   std::vector<double> layer_values;
   while (!layer.empty()) {
-    // Values of a layer come from the known entries only (order independent).
-    layer_values.assign(layer.size(), 0.0);
     const long layer_size = static_cast<long>(layer.size());
-#pragma omp parallel for schedule(static) if (layer_size >= kParallelMinItems)
+    const bool parallel_layer = layer_size >= kParallelMinItems;
+    layer_values.assign(layer.size(), 0.0);
+#pragma omp parallel for schedule(static) if (parallel_layer)
     for (long n = 0; n < layer_size; ++n) {
       double sum = 0;
       int count = 0;
       for (const auto& o : offsets) {
-        const int a = layer[n][0] + o[0], b = layer[n][1] + o[1], c = layer[n][2] + o[2];
-        if (a < 0 || b < 0 || c < 0 || a >= dims[0] || b >= dims[1] || c >= dims[2]) continue;
-        const std::size_t q = id(a, b, c);
-        if (known[q]) {
-          sum += values[q];
+        const long r = neighbour(layer[static_cast<std::size_t>(n)], o);
+        if (r >= 0 && known[static_cast<std::size_t>(r)]) {
+          sum += values[static_cast<std::size_t>(r)];
           ++count;
         }
       }
-      layer_values[n] = count ? sum / count : 0.0;
+      layer_values[static_cast<std::size_t>(n)] = count ? sum / count : 0.0;
     }
-    next.clear();
-    for (std::size_t n = 0; n < layer.size(); ++n) {
-      const std::size_t q = id(layer[n][0], layer[n][1], layer[n][2]);
-      values[q] = layer_values[n];
+#pragma omp parallel for schedule(static) if (parallel_layer)
+    for (long n = 0; n < layer_size; ++n) {
+      const std::size_t q = static_cast<std::size_t>(layer[static_cast<std::size_t>(n)]);
+      values[q] = layer_values[static_cast<std::size_t>(n)];
       known[q] = 1;
     }
-    for (const auto& g : layer) push_unknown_neighbours(g[0], g[1], g[2], next);
-    layer.swap(next);
+    // The next layer: the unqueued neighbours, each taken by one thread.
+#pragma omp parallel if (parallel_layer)
+    {
+      std::vector<long>& out = found[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(static)
+      for (long n = 0; n < layer_size; ++n)
+        for (const auto& o : offsets) {
+          const long r = neighbour(layer[static_cast<std::size_t>(n)], o);
+          if (r >= 0 && !__atomic_load_n(&queued[static_cast<std::size_t>(r)], __ATOMIC_RELAXED) &&
+              !__atomic_exchange_n(&queued[static_cast<std::size_t>(r)], char(1), __ATOMIC_RELAXED))
+            out.push_back(r);
+        }
+    }
+    layer.clear();
+    for (std::vector<long>& f : found) {
+      layer.insert(layer.end(), f.begin(), f.end());
+      f.clear();
+    }
   }
 }
 

@@ -137,23 +137,31 @@ TEST(MeshDensity, GridDoesNotDependOnThreadCount) {
     std::vector<double> values(m.points.size());
     for (std::size_t i = 0; i < values.size(); ++i)
       values[i] = 2.0 + std::sin(7 * m.points[i].x()) * std::cos(5 * m.points[i].y()) + m.points[i].z();
-    DensityGrid one, two;
-    ASSERT_TRUE(testing::with_threads(1, [&] { return one.build(m.points, m.tets, values, 1.0 / 24); }));
-    ASSERT_TRUE(testing::with_threads(2, [&] { return two.build(m.points, m.tets, values, 1.0 / 24); }));
-    ASSERT_EQ(one.cells(), two.cells());
-    const auto n = one.cells();
-    std::size_t differing = 0;
-    for (int k = 0; k <= n[2]; ++k)
-      for (int j = 0; j <= n[1]; ++j)
-        for (int i = 0; i <= n[0]; ++i) differing += one.point_value(i, j, k) != two.point_value(i, j, k);
-    std::mt19937_64 rng(9);
-    std::uniform_real_distribution<double> u(-0.1, 1.1);
-    for (int s = 0; s < 2000; ++s) {
-      const Vec3 p(u(rng), u(rng), u(rng));
-      differing += one.cell_density(p) != two.cell_density(p);
-      differing += one.density_at(p) != two.density_at(p);
+    // On the lattice, and overshooting the cube: a layer of grid points
+    // outside, filled from their neighbours.
+    for (const double cell : {1.0 / 24, 1.0 / 23.4}) {
+      DensityGrid one, two;
+      ASSERT_TRUE(testing::with_threads(1, [&] { return one.build(m.points, m.tets, values, cell); }));
+      ASSERT_TRUE(testing::with_threads(2, [&] { return two.build(m.points, m.tets, values, cell); }));
+      ASSERT_EQ(one.cells(), two.cells());
+      const auto n = one.cells();
+      std::size_t differing = 0;
+      for (int k = 0; k <= n[2]; ++k)
+        for (int j = 0; j <= n[1]; ++j)
+          for (int i = 0; i <= n[0]; ++i) differing += one.point_value(i, j, k) != two.point_value(i, j, k);
+      std::mt19937_64 rng(9);
+      std::uniform_real_distribution<double> u(-0.1, 1.1);
+      for (int s = 0; s < 2000; ++s) {
+        const Vec3 p(u(rng), u(rng), u(rng));
+        differing += one.cell_density(p) != two.cell_density(p);
+        differing += one.density_at(p) != two.density_at(p);
+      }
+      EXPECT_EQ(differing, 0u) << "jitter " << jitter << ", cell " << cell;
+      if (cell > 1.0 / 24) {
+        EXPECT_EQ(one.point_value(n[0], n[1], n[2]), 0.0);     // outside the cube
+        EXPECT_GT(one.density_at(Vec3::Constant(1.02)), 0.0);  // filled
+      }
     }
-    EXPECT_EQ(differing, 0u) << "jitter " << jitter;
   }
 }
 
