@@ -15,7 +15,8 @@ struct BoundaryGeometry;
 
 /// Options of the boundary phases (1) and (2) of Phased ODT smoothing.
 struct BoundarySmoothOptions {
-  /// Gauss-Seidel sweeps over the vertices.
+  /// Sweeps over the vertices (Gauss-Seidel; the surface smoother goes
+  /// colour by colour).
   int iterations = 3;
   /// Per vertex slot: only vertices with mask 1 move. Empty: all may move.
   std::vector<std::uint8_t> vertex_mask;
@@ -56,8 +57,12 @@ struct BoundarySmoothOptions {
 /// fitted surface (project_to_constraint), so every accepted position is on
 /// it. Step alpha = 1, halved while the move would invert a tet (exact,
 /// TetMesh::move_vertex), fold a ring triangle in the parameter plane or, with
-/// the quality guard, lower the ball's minimum stretch. Id order:
-/// deterministic. Corner, curve and unfitted-region vertices do not move.
+/// the quality guard, lower the ball's minimum stretch. The vertices move
+/// colour by colour (Gauss-Seidel between colours), each colour in parallel:
+/// no two vertices of a colour read each other's position (the vertices of
+/// their balls and their opposite vertices). The colours are made greedily
+/// in id order, so the result does not depend on the number of threads.
+/// Corner, curve and unfitted-region vertices do not move.
 OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geometry,
                                    const BoundarySmoothOptions& options = {});
 
