@@ -16,35 +16,33 @@ template <class TetAt, class Keep>
 std::vector<Edge> bucket_edges(index_t num_vertices, long num_tets, TetAt&& tet, Keep&& keep) {
   const std::size_t nv = static_cast<std::size_t>(std::max<index_t>(num_vertices, 0));
   const bool parallel = num_tets >= kParallelMinItems;
-  std::vector<index_t> start(nv + 1, 0);
-#pragma omp parallel for schedule(static) if (parallel)
-  for (long t = 0; t < num_tets; ++t) {
-    const Tet* T = tet(t);
-    if (!T) continue;
-    for (const auto& e : kTetEdge) {
-      const index_t a = std::min((*T)[e[0]], (*T)[e[1]]), b = std::max((*T)[e[0]], (*T)[e[1]]);
-      if (!keep(a, b)) continue;
-#pragma omp atomic
-      ++start[static_cast<std::size_t>(a) + 1];
-    }
-  }
-  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<index_t> other(static_cast<std::size_t>(start[nv]));
-  {
-    std::vector<index_t> fill(start.begin(), start.end() - 1);
+  // fn(a, b) for every kept edge (a < b) of every tet, tets in parallel.
+  const auto each_edge = [&](auto&& fn) {
 #pragma omp parallel for schedule(static) if (parallel)
     for (long t = 0; t < num_tets; ++t) {
       const Tet* T = tet(t);
       if (!T) continue;
       for (const auto& e : kTetEdge) {
         const index_t a = std::min((*T)[e[0]], (*T)[e[1]]), b = std::max((*T)[e[0]], (*T)[e[1]]);
-        if (!keep(a, b)) continue;
-        index_t slot;
-#pragma omp atomic capture
-        slot = fill[static_cast<std::size_t>(a)]++;
-        other[static_cast<std::size_t>(slot)] = b;
+        if (keep(a, b)) fn(a, b);
       }
     }
+  };
+  std::vector<index_t> start(nv + 1, 0);
+  each_edge([&](index_t a, index_t) {
+#pragma omp atomic
+    ++start[static_cast<std::size_t>(a) + 1];
+  });
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<index_t> other(static_cast<std::size_t>(start[nv]));
+  {
+    std::vector<index_t> fill(start.begin(), start.end() - 1);
+    each_edge([&](index_t a, index_t b) {
+      index_t slot;
+#pragma omp atomic capture
+      slot = fill[static_cast<std::size_t>(a)]++;
+      other[static_cast<std::size_t>(slot)] = b;
+    });
   }
   // Each edge is listed once per tet holding it (about five times): drop
   // the repeats with a mark per vertex before sorting the few that remain.

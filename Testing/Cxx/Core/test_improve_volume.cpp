@@ -104,13 +104,20 @@ TEST(ImproveVolume, SmoothingAloneIsMonotoneAndKeepsBoundary) {
   EXPECT_EQ(r.sweeps, 3);
 }
 
+/// The input of the thread-count tests: a jittered 14^3 cube with its inner
+/// vertices moved by up to 40% of the local edge length.
+TetMesh perturbed_cube() {
+  const testing::TestMesh cube = testing::make_cube_mesh(14, 0.1, 5);
+  TetMesh m;
+  EXPECT_TRUE(m.build(cube.points, cube.tets).ok);
+  EXPECT_GT(perturb_inner_vertices(m, 0.4, 7), 1000);
+  return m;
+}
+
 // The coloured, parallel sweeps (odt_smooth_volume.h) must give the same
 // points whatever the number of threads: reproducible outputs.
 TEST(ImproveVolume, SmoothingDoesNotDependOnThreadCount) {
-  const testing::TestMesh cube = testing::make_cube_mesh(14, 0.1, 5);
-  TetMesh m;
-  ASSERT_TRUE(m.build(cube.points, cube.tets).ok);
-  ASSERT_GT(perturb_inner_vertices(m, 0.4, 7), 1000);
+  const TetMesh m = perturbed_cube();
   TetMesh one = m, two = m;
   const OdtSmoothReport r1 = testing::with_threads(1, [&] { return odt_smooth_volume(one); });
   const OdtSmoothReport r2 = testing::with_threads(2, [&] { return odt_smooth_volume(two); });
@@ -126,10 +133,7 @@ TEST(ImproveVolume, SmoothingDoesNotDependOnThreadCount) {
 // Flips are evaluated in parallel batches (improve_tets_by_flips.h): the
 // tets must not depend on the number of threads.
 TEST(ImproveVolume, FlipsDoNotDependOnThreadCount) {
-  const testing::TestMesh cube = testing::make_cube_mesh(14, 0.1, 5);
-  TetMesh m;
-  ASSERT_TRUE(m.build(cube.points, cube.tets).ok);
-  ASSERT_GT(perturb_inner_vertices(m, 0.4, 7), 1000);
+  const TetMesh m = perturbed_cube();
   TetMesh one = m, two = m;
   const FlipImproveReport r1 = testing::with_threads(1, [&] { return improve_tets_by_flips(one, FlipImproveOptions()); });
   const FlipImproveReport r2 = testing::with_threads(2, [&] { return improve_tets_by_flips(two, FlipImproveOptions()); });
