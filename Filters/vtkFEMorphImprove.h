@@ -47,7 +47,9 @@
  * inverted tetrahedron, every stretch at 0.3 or more, no edge beyond the
  * density thresholds, every curved region within its acceptable error --
  * and is output unchanged), `ImproveTimes` (seconds: segmentation, curves,
- * surfaces, volume, total); one tuple per region: `GeometricError` (largest
+ * surfaces, volume, total), `ImproveStepTimes` (the same time by step:
+ * preparation, degenerate and inverted removal, density control, accuracy
+ * control, smoothing, flips, finishing, output); one tuple per region: `GeometricError` (largest
  * distance of a boundary edge's midpoint to the region's fitted curved
  * surface, after) and `AcceptableGeometricError` (the target; NaN for planes
  * and unknown regions).

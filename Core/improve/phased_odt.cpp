@@ -242,6 +242,13 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
     if (options.progress && !options.progress(fraction, phase)) stats.aborted = true;
     return !stats.aborted;
   };
+  // Time of one step (PhasedOdtStats::kStepNames) from `t0` on; returns now.
+  enum Step { Removal, Density, Accuracy, Smoothing, Flips, Finishing };
+  const auto lap = [&stats](Step step, Clock::time_point t0) {
+    const Clock::time_point now = Clock::now();
+    stats.step_seconds[step] += std::chrono::duration<double>(now - t0).count();
+    return now;
+  };
   const auto remove_inverted = [&]() {
     InvertedRemovalOptions io;
     io.project = project;
@@ -264,7 +271,11 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
   if (options.move_unfitted_regions && !options.fix_boundary) add_discrete_regions(mesh, geometry);
 
   // Fig. 2.34 (B) first for inverted tets: every later step needs a valid mesh.
-  if (options.remove_inverted && stats.inverted_before > 0) remove_inverted();
+  if (options.remove_inverted && stats.inverted_before > 0) {
+    const Clock::time_point t0 = Clock::now();
+    remove_inverted();
+    lap(Removal, t0);
+  }
 
   static const char* const kPhaseNames[3] = {"boundary curves", "surface triangles", "tetrahedra"};
   const bool enabled[3] = {options.smooth_curves, options.smooth_surfaces, options.smooth_volume};
@@ -277,6 +288,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         break;
       ++stats.loops[phase];
       const std::vector<std::uint8_t> movable = movable_vertices(mesh, options);
+      Clock::time_point t = Clock::now();
 
       // (B) degenerated and inverted element removal (2.6.2).
       if (options.remove_degenerate) {
@@ -290,6 +302,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         stats.removed_spades += ds.removed_spades;
       }
       if (options.remove_inverted && count_inverted(mesh) > 0) remove_inverted();
+      t = lap(Removal, t);
 
       // (C) mesh density control (2.6.3), one split and one collapse pass
       // per loop, on the edges of this phase.
@@ -316,6 +329,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         stats.splits += dcs.splits;
         stats.collapses += dcs.collapses;
         operations += dcs.splits + dcs.collapses;
+        t = lap(Density, t);
       }
       // (C) shape approximation accuracy control (2.6.4), on the boundary
       // (in every phase: the density control of phase 3 collapses boundary
@@ -328,6 +342,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         stats.splits += as.splits;
         stats.accuracy_splits += as.splits;
         operations += as.splits;
+        t = lap(Accuracy, t);
       }
 
       // (A) ODT smoothing of this phase's elements (2.6.5), then its flips.
@@ -341,11 +356,13 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         const OdtSmoothReport r =
             phase == 0 ? odt_smooth_curves(mesh, geometry, bso) : odt_smooth_surface(mesh, geometry, bso);
         stats.moved_vertices += r.moved;
+        t = lap(Smoothing, t);
         if (phase == 1 && options.flips) {
           SurfaceFlipOptions sfo;
           sfo.vertex_mask = smooth_mask;
           sfo.min_stretch = options.quality_floor;
           stats.surface_flips += flip_surface_edges(mesh, geometry, sfo).flips;
+          t = lap(Flips, t);
         }
       } else {
         OdtSmoothOptions oso;
@@ -355,10 +372,12 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         // the finishing step sweeps all of them.
         oso.vertex_mask = vertices_of_poor_tets(mesh, smooth_mask, 0.5);
         stats.moved_vertices += odt_smooth_volume(mesh, oso).moved;
+        t = lap(Smoothing, t);
         if (options.flips) {
           FlipImproveOptions fo;
           fo.vertex_mask = smooth_mask;
           add_flips(stats, improve_tets_by_flips(mesh, fo));
+          t = lap(Flips, t);
         }
       }
       // Fig. 2.34: the loop ends when no density or accuracy operation is
@@ -370,8 +389,11 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         break;
       last_operations = operations;
     }
-    if (phase == 2 && !stats.aborted && report(0.95, kPhaseNames[2]))
+    if (phase == 2 && !stats.aborted && report(0.95, kPhaseNames[2])) {
+      const Clock::time_point t0 = Clock::now();
       finish_improvement(mesh, geometry, target, options, stats);
+      lap(Finishing, t0);
+    }
     stats.phase_seconds[phase] = seconds_since(phase_start);
     if (stats.aborted) break;
   }

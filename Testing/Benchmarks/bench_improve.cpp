@@ -574,8 +574,9 @@ int main(int argc, char** argv) {
       std::printf(
         "segmentation of the stretched part (FEMorph Segment): %.2f s; density error (Eq. 2.35) %.3f -> %.3f\n",
         median(seg_times), density ? density->GetComponent(0, 0) : NAN, density ? density->GetComponent(0, 1) : NAN);
-      std::printf("FEMorph Improve, last run: times %s\n  counts %s\n",
+      std::printf("FEMorph Improve, last run: times %s\n  steps %s\n  counts %s\n",
                   field_summary(improved, "ImproveTimes", "%s %.2f s").c_str(),
+                  field_summary(improved, "ImproveStepTimes", "%s %.2f s").c_str(),
                   field_summary(improved, "ImproveCounts", "%s %.0f").c_str());
       const bool large = deformed.tets.size() >= 400000;
       std::printf("FEMorph Improve: %.0f input tets/s; goal <= 10 s at about 500,000 tets: %s\n",

@@ -305,6 +305,26 @@ ImproveRun Improve(vtkUnstructuredGrid* input, vtkUnstructuredGrid* reference,
   return run;
 }
 
+/// ImproveStepTimes splits the time after the segmentation by step: none
+/// negative, together no more than that time and most of it.
+void ExpectStepTimesAddUp(vtkUnstructuredGrid* out)
+{
+  vtkDataArray* steps = out->GetFieldData()->GetArray("ImproveStepTimes");
+  ASSERT_NE(steps, nullptr);
+  ASSERT_EQ(steps->GetNumberOfComponents(), 8);
+  double sum = 0;
+  for (int i = 0; i < steps->GetNumberOfComponents(); ++i)
+  {
+    EXPECT_GE(steps->GetComponent(0, i), 0.0) << steps->GetComponentName(i);
+    sum += steps->GetComponent(0, i);
+  }
+  const double improve = Field(out, "ImproveTimes", "Total") - Field(out, "ImproveTimes", "Segmentation");
+  EXPECT_LE(sum, improve + 1e-9);
+  EXPECT_GE(sum, 0.5 * improve);
+  EXPECT_GT(Field(out, "ImproveStepTimes", "Density"), 0.0);
+  EXPECT_GT(Field(out, "ImproveStepTimes", "Smoothing"), 0.0);
+}
+
 /// Every region's largest geometric error is within its acceptable error.
 void ExpectAccuracyKept(vtkUnstructuredGrid* out)
 {
@@ -380,6 +400,7 @@ TEST(Improve, BossHeightStretch3)
   ImproveRun run = Improve(deformed, reference);
   ExpectGoals(run, deformed, 0.2, Measure(original).Mean);
   EXPECT_LE(Field(run.Output, "ImproveDensityError", "After"), std::max(0.15, OwnDensityError(reference)));
+  ExpectStepTimesAddUp(run.Output);
 }
 
 // Issue 5 (a): inner vertices moved by up to 40% of their mean edge length
@@ -823,7 +844,7 @@ TEST(Improve, XmlDefaultsEqualCxxDefaults)
   ASSERT_NE(doc, nullptr);
   const std::string help = doc->GetCharacterData() ? doc->GetCharacterData() : "";
   for (const char* name : { "Stretch", "Inverted", "ImproveStretch", "ImproveDensityError", "ImproveCounts",
-         "ImproveTimes", "GeometricError", "AcceptableGeometricError" })
+         "ImproveTimes", "ImproveStepTimes", "GeometricError", "AcceptableGeometricError" })
   {
     EXPECT_NE(help.find(name), std::string::npos) << name;
   }
