@@ -81,6 +81,76 @@ inline TestMesh make_cube_mesh(int n, double jitter, std::uint64_t seed) {
   return m;
 }
 
+/// The box [0, 1] x [0, 1] x [0, depth] on the body-centred cubic lattice of
+/// spacing 1/n (n cells across, n * depth along z): the cells' corners and
+/// centres; every face between two cells gives the octahedron of its square
+/// and the two centres (4 tets around the centre-to-centre edge), every face
+/// on the boundary the pyramid of its square and its cell's centre (2 tets).
+/// Inside, edges are h (corner-corner, centre-centre) or 0.87 h (centre to
+/// corner): a mesh as uniform as a mesh generator's best, like the thesis'
+/// Netgen mesh of Fig. 2.53. Boundary faces get regions 0..5 as in
+/// make_cube_mesh (planes x=0, x=1, y=0, y=1, z=0, z=depth).
+inline TestMesh make_bcc_box_mesh(int n, int depth) {
+  TestMesh m;
+  const int nx = n, ny = n, nz = n * depth;
+  const double h = 1.0 / n;
+  const auto corner = [&](int i, int j, int k) { return static_cast<index_t>((k * (ny + 1) + j) * (nx + 1) + i); };
+  const index_t corners = corner(nx, ny, nz) + 1;
+  const auto centre = [&](int i, int j, int k) { return corners + static_cast<index_t>((k * ny + j) * nx + i); };
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) m.points.emplace_back(i * h, j * h, k * h);
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) m.points.emplace_back((i + 0.5) * h, (j + 0.5) * h, (k + 0.5) * h);
+  const auto add = [&m](Tet t, int region) {
+    const Vec3& p0 = m.points[t[0]];
+    if ((m.points[t[1]] - p0).dot((m.points[t[2]] - p0).cross(m.points[t[3]] - p0)) < 0) std::swap(t[1], t[2]);
+    m.tets.push_back(t);
+    Tet regions{{-1, -1, -1, -1}};
+    // The boundary face is the one opposite the cell centre (local 0 or,
+    // after the swap, still the first vertex: the centre is passed first).
+    regions[0] = region;
+    m.face_regions.push_back(regions);
+  };
+  const int size[3] = {nx, ny, nz};
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+    // Square faces normal to `axis` at layer l, spanned by cells (a, b) in (u, w).
+    for (int l = 0; l <= size[axis]; ++l)
+      for (int a = 0; a < size[u]; ++a)
+        for (int b = 0; b < size[w]; ++b) {
+          index_t q[4];  // the square's corners in order around it
+          static const int du[4] = {0, 1, 1, 0}, dw[4] = {0, 0, 1, 1};
+          for (int c = 0; c < 4; ++c) {
+            int x[3];
+            x[axis] = l;
+            x[u] = a + du[c];
+            x[w] = b + dw[c];
+            q[c] = corner(x[0], x[1], x[2]);
+          }
+          const auto cell_centre = [&](int layer) {
+            int x[3];
+            x[axis] = layer;
+            x[u] = a;
+            x[w] = b;
+            return centre(x[0], x[1], x[2]);
+          };
+          if (l > 0 && l < size[axis]) {
+            const index_t c0 = cell_centre(l - 1), c1 = cell_centre(l);
+            for (int c = 0; c < 4; ++c) add(Tet{{c0, c1, q[c], q[(c + 1) % 4]}}, -1);
+          } else {
+            const index_t c0 = cell_centre(l == 0 ? 0 : l - 1);
+            const int region = 2 * axis + (l == 0 ? 0 : 1);
+            const int d = (a + b) % 2;  // alternate diagonals
+            add(Tet{{c0, q[d], q[d + 1], q[(d + 2) % 4]}}, region);
+            add(Tet{{c0, q[d], q[(d + 2) % 4], q[(d + 3) % 4]}}, region);
+          }
+        }
+  }
+  return m;
+}
+
 /// Sum of signed tet volumes.
 inline double total_volume(const std::vector<Vec3>& p, const std::vector<Tet>& tets) {
   double v = 0;

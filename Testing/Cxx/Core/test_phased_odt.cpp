@@ -257,6 +257,62 @@ TEST(PhasedOdt, UnfittedRegionVerticesMoveOnTheirTriangles) {
 // edges and lengthens their chords; with the chord test of Phased ODT
 // (collapse_chords_within_error) no cylinder ends beyond its acceptable error
 // (here its error as given), without it they do.
+// Issue 5: mean density error (Eq. 2.35) <= 0.15 against the reference,
+// as the thesis' Fig. 2.53 (Netgen mesh, 0.26 -> 0.15). With a reference as
+// uniform as that one (the BCC lattice box scores 0.08 against its own
+// field), a slab stretched x3 (0.23 after the stretch) and x1.6 ends at or
+// below 0.15; the mesh valid, min stretch >= 0.3, the box's planes and
+// volume exact. (A Gmsh mesh scores 0.17-0.21 against its own field, so
+// there the error ends near that: test_vtk_improve.)
+TEST(PhasedOdt, UniformReferenceDensityRecoveredWithin015) {
+  const testing::TestMesh ref = testing::make_bcc_box_mesh(8, 2);
+  ASSERT_TRUE(check_validity(ref.points, ref.tets).ok());
+  const std::vector<double> rho = vertex_density(ref.points, ref.tets);
+  DensityGrid own;
+  ASSERT_TRUE(own.build(ref.points, ref.tets, rho, 0));
+  const double own_error = mean_density_error(ref.points, ref.tets, own, DensityLookup::Cell).mean;
+  EXPECT_LT(own_error, 0.1);
+  for (const double factor : {3.0, 1.6}) {
+    SCOPED_TRACE(factor);
+    // z in [0.5, 1.5] stretched, above it moved up.
+    testing::TestMesh deformed = ref;
+    for (Vec3& p : deformed.points)
+      p.z() = p.z() <= 0.5 ? p.z() : (p.z() >= 1.5 ? p.z() + (factor - 1) : 0.5 + factor * (p.z() - 0.5));
+    const double top = 1.0 + factor;
+    DensityGrid grid;  // the reference's density on the deformed positions
+    ASSERT_TRUE(grid.build(deformed.points, ref.tets, rho, 0));
+    TetMesh mesh = build(deformed);
+    BoundaryGeometry geometry;
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side = 0; side < 2; ++side)
+        geometry.regions.push_back(plane(side * (axis == 2 ? top : 1.0) * Vec3::Unit(axis), Vec3::Unit(axis)));
+    PhasedOdtTarget target;
+    target.density = &grid;
+    const PhasedOdtStats stats = phased_odt(mesh, geometry, target);
+    std::printf("BCC box x%.1f: density error own %.3f, %.3f -> %.3f; tets %zu -> %zu; stretch min %.3f -> %.3f\n",
+                factor, own_error, stats.density_error_before.mean, stats.density_error_after.mean,
+                stats.tets_before, stats.tets_after, stats.min_stretch_before, stats.min_stretch_after);
+    if (factor == 3.0) {
+      EXPECT_GT(stats.density_error_before.mean, 0.2);
+    }
+    EXPECT_LE(stats.density_error_after.mean, 0.15);
+    EXPECT_GT(stats.tets_after, stats.tets_before);
+    const CompactMesh out = mesh.compact();
+    const ValidityReport report = check_validity(out.points, out.tets);
+    EXPECT_TRUE(report.ok()) << report.summary();
+    const Measured after = measure(out);
+    EXPECT_GE(after.min, 0.3);
+    EXPECT_NEAR(after.volume, top, 1e-9 * top);
+    for (std::size_t v = 0; v < out.points.size(); ++v) {
+      if (out.vertex_classes[v] == VertexClass::Inner) continue;
+      const Vec3& p = out.points[v];
+      const double d = std::min({std::abs(p.x()), std::abs(p.x() - 1), std::abs(p.y()), std::abs(p.y() - 1),
+                                 std::abs(p.z()), std::abs(p.z() - top)});
+      EXPECT_LE(d, 1e-12 * top) << "boundary point " << v;
+    }
+  }
+}
+
 TEST(ShapeAccuracy, DensityCollapsesKeepTheChordError) {
   const Annulus a = make_annulus();
   const GridMesh gm = make_grid_mesh(a.grid);
