@@ -329,6 +329,11 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         stats.splits += dcs.splits;
         stats.collapses += dcs.collapses;
         operations += dcs.splits + dcs.collapses;
+        // Beyond the thesis: the splits and collapses scatter neighbours over
+        // memory (new tets fill freed slots anywhere); renumbered along
+        // space, the steps after them walk the mesh 1.5-2x faster at 1M tets.
+        if (phase == 2 && dcs.splits + dcs.collapses > 0 && mesh.live_tets() >= options.sort_min_tets)
+          mesh.sort_spatially();
         t = lap(Density, t);
       }
       // (C) shape approximation accuracy control (2.6.4), on the boundary
@@ -336,7 +341,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
       // edges too).
       if (options.accuracy_control && !target.acceptable_error.empty()) {
         AccuracyControlOptions aco;
-        aco.vertex_mask = movable;
+        aco.vertex_mask = movable_vertices(mesh, options);
         aco.min_stretch = options.quality_floor;
         const AccuracyControlStats as = control_shape_accuracy(mesh, geometry, target.acceptable_error, aco);
         stats.splits += as.splits;

@@ -46,6 +46,11 @@ struct PhasedOdtOptions {
   /// thresholds; on the 527k-tet benchmark part the last loops cost 2 s each
   /// for 0.2% less density error). 0: the thesis' rule, until none is left.
   double min_operation_fraction = 0.05;
+  /// Beyond the thesis: the volume phase renumbers the mesh along space
+  /// (TetMesh::sort_spatially) after each density control that changed it,
+  /// from this many live tets on (below it the mesh fits in cache). Vertex
+  /// and tet ids do not survive phased_odt then.
+  std::size_t sort_min_tets = 100000;
   /// Mesh density thresholds beta1, beta2 (2.6.3).
   double split_threshold = 1.5;
   double collapse_threshold = 0.67;

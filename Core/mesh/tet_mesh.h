@@ -294,6 +294,12 @@ class TetMesh {
   // ---- output and checks ---------------------------------------------------
   /// Dense copy of the live mesh with provenance and face regions.
   CompactMesh compact() const;
+  /// Renumbers the live vertices along a Morton curve through their
+  /// positions and the live tets by their lowest new vertex id, dropping
+  /// dead slots: neighbours then sit close in memory, which edits scatter
+  /// (new tets fill freed slots anywhere). Every id held outside the mesh
+  /// becomes stale. Returns the old-to-new vertex map (-1: dead).
+  std::vector<index_t> sort_spatially();
   /// Bytes held by the mesh's arrays (capacity, scratch space included).
   std::size_t memory_bytes() const;
   /// Checks the internal invariants (adjacency symmetric and matching the

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <map>
 #include <set>
 
@@ -591,6 +592,126 @@ TEST_F(CollapseRules, SurfaceEdgeFlip) {
   expect_valid(m);
   // A curve edge cannot be flipped this way.
   EXPECT_EQ(m.flip_surface_edge(id(0, 0, 0), id(1, 0, 0)), OpStatus::ForbiddenByRule);
+}
+
+}  // namespace
+}  // namespace femorph
+
+namespace femorph {
+namespace {
+
+/// Mean distance between consecutive live points (dead slots skipped).
+double mean_step(const std::vector<Vec3>& p, const TetMesh* alive = nullptr) {
+  double sum = 0;
+  std::size_t n = 0;
+  for (std::size_t v = 1; v < p.size(); ++v) {
+    if (alive && (!alive->vertex_alive(static_cast<index_t>(v)) || !alive->vertex_alive(static_cast<index_t>(v - 1))))
+      continue;
+    sum += (p[v] - p[v - 1]).norm();
+    ++n;
+  }
+  return sum / static_cast<double>(n);
+}
+
+// TetMesh::sort_spatially: after edits that leave dead and reused slots, the
+// renumbered mesh is the same mesh (tets by coordinates, face regions,
+// classes, provenance), dense, consistent, and its slots follow space.
+TEST(SortSpatially, SameMeshDenseAndInSpaceOrder) {
+  const testing::TestMesh cube = testing::make_cube_mesh(6, 0.1, 4);
+  TetMesh mesh;
+  BuildOptions bo;
+  bo.face_regions = cube.face_regions;
+  ASSERT_TRUE(mesh.build(cube.points, cube.tets, bo).ok);
+  // Edits: splits append, collapses free slots that later splits reuse.
+  std::size_t collapsed = 0;
+  for (index_t a = 0; a < 200; a += 3) {
+    std::vector<index_t> nb;
+    if (!mesh.vertex_alive(a)) continue;
+    mesh.vertex_neighbors(a, nb);
+    index_t v;
+    mesh.split_edge(a, nb.front(), nullptr, &v);
+    const Vec3 mid = 0.5 * (mesh.point(a) + mesh.point(nb.back()));
+    collapsed += mesh.collapse_edge(a, nb.back(), &mid) == OpStatus::Ok;
+  }
+  ASSERT_GT(collapsed, 10u);
+  ASSERT_TRUE(mesh.check_consistency().ok);
+  // Everything about a tet that must survive, keyed by its corner positions.
+  using Key = std::array<std::array<double, 3>, 4>;
+  struct Facts {
+    std::array<index_t, 4> regions;  // by sorted corner
+    index_t origin;
+  };
+  const auto facts = [](const TetMesh& m) {
+    std::map<Key, Facts> out;
+    for (index_t t = 0; t < m.tet_slots(); ++t) {
+      if (!m.tet_alive(t)) continue;
+      std::array<std::pair<std::array<double, 3>, int>, 4> corners;
+      for (int i = 0; i < 4; ++i) {
+        const Vec3& p = m.point(m.tet(t)[i]);
+        corners[i] = {{p.x(), p.y(), p.z()}, i};
+      }
+      std::sort(corners.begin(), corners.end());
+      Key key;
+      Facts f;
+      for (int i = 0; i < 4; ++i) {
+        key[i] = corners[i].first;
+        f.regions[i] = m.face_region(t, corners[i].second);
+      }
+      f.origin = m.tet_origin(t);
+      EXPECT_TRUE(out.emplace(key, f).second);
+    }
+    return out;
+  };
+  const auto vertex_facts = [](const TetMesh& m) {
+    std::map<std::array<double, 3>, std::pair<VertexClass, index_t>> out;
+    for (index_t v = 0; v < m.vertex_slots(); ++v)
+      if (m.vertex_alive(v))
+        out[{m.point(v).x(), m.point(v).y(), m.point(v).z()}] = {m.vertex_class(v), m.vertex_origin(v).ids[0]};
+    return out;
+  };
+  const auto before = facts(mesh);
+  const auto before_vertices = vertex_facts(mesh);
+  const std::vector<Vec3> old_points = mesh.points();
+  const std::size_t live_tets = mesh.live_tets();
+  ASSERT_GT(static_cast<std::size_t>(mesh.tet_slots()), live_tets);  // dead slots to drop
+
+  const TetMesh before_mesh = mesh;
+  const std::vector<index_t> map = mesh.sort_spatially();
+  ASSERT_TRUE(mesh.check_consistency().ok) << mesh.check_consistency().message;
+  expect_valid(mesh);
+  EXPECT_EQ(static_cast<std::size_t>(mesh.tet_slots()), live_tets);
+  EXPECT_EQ(static_cast<std::size_t>(mesh.vertex_slots()), before_vertices.size());
+  for (index_t v = 0; v < static_cast<index_t>(map.size()); ++v)
+    if (map[v] >= 0) {
+      EXPECT_EQ(mesh.point(map[v]), old_points[v]);
+    }
+  const auto after = facts(mesh);
+  ASSERT_EQ(after.size(), before.size());
+  for (const auto& [key, f] : before) {
+    const auto it = after.find(key);
+    ASSERT_NE(it, after.end());
+    EXPECT_EQ(it->second.regions, f.regions);
+    EXPECT_EQ(it->second.origin, f.origin);
+  }
+  EXPECT_EQ(vertex_facts(mesh), before_vertices);
+  // In space order: consecutive vertices closer than before (the split
+  // vertices were appended far from their neighbours), tets by lowest vertex.
+  const double step_before = mean_step(old_points, &before_mesh), step_after = mean_step(mesh.points());
+  std::printf("mean distance of consecutive vertices: %.3f -> %.3f\n", step_before, step_after);
+  EXPECT_LT(step_after, 0.8 * step_before);
+  index_t lowest = 0;
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    const Tet& T = mesh.tet(t);
+    const index_t m = *std::min_element(T.begin(), T.end());
+    EXPECT_GE(m, lowest);
+    lowest = m;
+  }
+  // New edits work on the renumbered mesh.
+  index_t v;
+  std::vector<index_t> nb;
+  mesh.vertex_neighbors(0, nb);
+  EXPECT_EQ(mesh.split_edge(0, nb.front(), nullptr, &v), OpStatus::Ok);
+  expect_valid(mesh);
 }
 
 }  // namespace
