@@ -490,6 +490,19 @@ int vtkFEMorphImprove::RequestData(
       vtkWarningMacro(<< Label << ": " << remaining
                       << " inverted tetrahedra could not be repaired; they have Inverted = 1.");
     }
+    // What limits the quality when the floor is not reached everywhere and
+    // the boundary is the cause.
+    if (stats.below_floor_on_boundary > 0)
+    {
+      vtkWarningMacro(<< Label << ": " << stats.below_floor << " tetrahedr"
+                      << (stats.below_floor == 1 ? "on stays" : "a stay") << " below stretch "
+                      << po.quality_floor << " (minimum " << std::round(1000 * stats.min_stretch_after) / 1000 << "); "
+                      << stats.below_floor_on_boundary
+                      << " of them have all four vertices on the boundary, so their shape is that of the "
+                         "boundary triangles (typically a face much narrower than the mesh, such as a "
+                         "strip between two curves). Only a finer surface mesh there would help; see "
+                         "the Stretch cell array.");
+    }
 
     // The curves' vertex lists in the output's numbering.
     vtkFieldData* fd = output->GetFieldData();
@@ -536,7 +549,8 @@ int vtkFEMorphImprove::RequestData(
         { "SurfaceFlips", d(stats.surface_flips) }, { "RemovedSlivers", d(stats.removed_slivers) },
         { "RemovedCaps", d(stats.removed_caps) }, { "RemovedSpades", d(stats.removed_spades) },
         { "RepairedInverted", d(stats.removed_inverted) }, { "RemainingInverted", d(remaining) },
-        { "MovedVertices", d(stats.moved_vertices) }, { "TetsBefore", d(stats.tets_before) },
+        { "MovedVertices", d(stats.moved_vertices) }, { "BelowFloor", d(stats.below_floor) },
+        { "BelowFloorAllBoundary", d(stats.below_floor_on_boundary) }, { "TetsBefore", d(stats.tets_before) },
         { "TetsAfter", d(stats.tets_after) }, { "LeftAsItWas", stats.skipped ? 1.0 : 0.0 } });
     AddSummary(fd, "ImproveTimes",
       { { "Segmentation", segmentationSeconds }, { "Curves", stats.phase_seconds[0] },

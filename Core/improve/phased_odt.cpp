@@ -99,16 +99,21 @@ void add_flips(PhasedOdtStats& stats, const FlipImproveReport& r) {
   stats.flips_44 += r.flips_44;
 }
 
-/// Live tets with stretch below `threshold` (in parallel: read only).
-std::size_t count_below(const TetMesh& mesh, double threshold) {
-  std::size_t n = 0;
+/// Live tets with stretch below `threshold` (in parallel: read only); with
+/// `no_inner_vertex`, also how many of them have all four vertices on the
+/// boundary.
+std::size_t count_below(const TetMesh& mesh, double threshold, std::size_t* no_inner_vertex = nullptr) {
+  std::size_t n = 0, locked = 0;
   const long slots = mesh.tet_slots();
-#pragma omp parallel for schedule(static) reduction(+ : n) if (slots >= kParallelMinItems)
+#pragma omp parallel for schedule(static) reduction(+ : n, locked) if (slots >= kParallelMinItems)
   for (long t = 0; t < slots; ++t) {
     if (!mesh.tet_alive(static_cast<index_t>(t))) continue;
     const Tet& T = mesh.tet(static_cast<index_t>(t));
-    n += tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) < threshold;
+    if (!(tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) < threshold)) continue;
+    ++n;
+    locked += std::all_of(T.begin(), T.end(), [&](index_t v) { return mesh.on_boundary(v); });
   }
+  if (no_inner_vertex) *no_inner_vertex = locked;
   return n;
 }
 
@@ -405,6 +410,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
 
   live_stretch_range(mesh, &stats.min_stretch_after, &stats.mean_stretch_after);
   stats.tets_after = mesh.live_tets();
+  stats.below_floor = count_below(mesh, options.quality_floor, &stats.below_floor_on_boundary);
   count_inverted(mesh, &stats.remaining_inverted);
   if (target.density && !target.density->empty())
     stats.density_error_after = mean_density_error(mesh, *target.density, DensityLookup::Cell);

@@ -110,6 +110,11 @@ struct PhasedOdtStats {
   std::size_t removed_slivers = 0, removed_caps = 0, removed_spades = 0;
   std::size_t removed_inverted = 0;               ///< inverted tets repaired
   std::size_t moved_vertices = 0;                 ///< accepted ODT moves
+  /// Tets left below quality_floor after, and how many of them have all
+  /// four vertices on the boundary: no inner vertex to move, so their shape
+  /// is that of the boundary triangles (a face narrower than the mesh, as a
+  /// strip between two curves); only a finer boundary mesh there helps.
+  std::size_t below_floor = 0, below_floor_on_boundary = 0;
   /// Inverted tets no operation could repair (tet slot ids after the run).
   std::vector<index_t> remaining_inverted;
   std::array<int, 3> loops{{0, 0, 0}};            ///< modified ODT loops per phase

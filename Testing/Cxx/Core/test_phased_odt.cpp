@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 
@@ -114,6 +115,7 @@ TEST(PhasedOdt, JitteredCubeReachesTheQualityGoal) {
   EXPECT_TRUE(report.ok()) << report.summary();
   const Measured after = measure(out);
   EXPECT_GE(after.min, 0.3);
+  EXPECT_EQ(stats.below_floor, 0u);
   EXPECT_GE(after.mean, undeformed.mean);
   EXPECT_NEAR(after.volume, 1.0, 1e-12);
   EXPECT_DOUBLE_EQ(stats.min_stretch_after, after.min);
@@ -314,6 +316,46 @@ TEST(PhasedOdt, UniformReferenceDensityRecoveredWithin015) {
       EXPECT_LE(d, 1e-12 * top) << "boundary point " << v;
     }
   }
+}
+
+// What limits the quality is reported: the tets left below the floor, and
+// those of them with all four vertices on the boundary (no inner vertex to
+// move). A Kuhn cube flattened to a plate 0.1 thick: its tets are flat and
+// most have no inner vertex; both counts match a count made here from the
+// output (boundary vertices: those of faces used once).
+TEST(PhasedOdt, ReportsTheTetsLeftBelowTheFloor) {
+  testing::TestMesh m = testing::make_cube_mesh(3, 0.0, 1);
+  for (Vec3& p : m.points) p.z() *= 0.1;
+  TetMesh mesh = build(m);
+  BoundaryGeometry geometry;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side)
+      geometry.regions.push_back(plane(side * (axis == 2 ? 0.1 : 1.0) * Vec3::Unit(axis), Vec3::Unit(axis)));
+  const PhasedOdtStats stats = phased_odt(mesh, geometry, PhasedOdtTarget{});
+  const CompactMesh out = mesh.compact();
+  ASSERT_TRUE(check_validity(out.points, out.tets).ok());
+  std::map<std::array<index_t, 3>, int> faces;
+  for (const Tet& t : out.tets)
+    for (int f = 0; f < 4; ++f) {
+      std::array<index_t, 3> k{{t[kTetFace[f][0]], t[kTetFace[f][1]], t[kTetFace[f][2]]}};
+      std::sort(k.begin(), k.end());
+      ++faces[k];
+    }
+  std::vector<char> boundary(out.points.size(), 0);
+  for (const auto& [k, n] : faces)
+    if (n == 1)
+      for (const index_t v : k) boundary[v] = 1;
+  std::size_t below = 0, locked = 0;
+  for (const Tet& t : out.tets) {
+    if (!(tet_stretch(out.points[t[0]], out.points[t[1]], out.points[t[2]], out.points[t[3]]) < 0.3)) continue;
+    ++below;
+    locked += boundary[t[0]] && boundary[t[1]] && boundary[t[2]] && boundary[t[3]];
+  }
+  std::printf("plate: %zu tets, min stretch %.3f, %zu below 0.3, %zu of them without an inner vertex\n",
+              out.tets.size(), stats.min_stretch_after, below, locked);
+  EXPECT_GT(locked, 0u);
+  EXPECT_EQ(stats.below_floor, below);
+  EXPECT_EQ(stats.below_floor_on_boundary, locked);
 }
 
 TEST(ShapeAccuracy, DensityCollapsesKeepTheChordError) {

@@ -697,6 +697,47 @@ TEST(Improve, NoSegmentationKeepsBoundary)
   EXPECT_EQ(moved, 0u);
 }
 
+// A part squashed into a plate thinner than its mesh: most tets span the
+// thickness with all four vertices on the boundary, where no inner vertex
+// can be moved. The filter says what limits the quality (a warning and the
+// BelowFloor counts) and still outputs a valid mesh.
+TEST(Improve, SaysWhenTheBoundaryLimitsTheQuality)
+{
+  auto part = femorph_test::ReadPart("boss_block.vtu");
+  ASSERT_NE(part, nullptr);
+  Arrays plate = ToArrays(part);
+  for (Vec3& p : plate.Points)
+  {
+    p.z() *= 0.02;
+  }
+  vtkNew<femorph_test::MessageRecorder> messages;
+  vtkNew<vtkFEMorphImprove> improve;
+  messages->Observe(improve);
+  improve->SetInputData(Segmented(WithPoints(part, plate.Points)));
+  improve->Update();
+  ASSERT_EQ(messages->Errors.size(), 0u);
+  const Arrays out = ToArrays(improve->GetOutput());
+  ExpectValid(improve->GetOutput(), out);
+  const double below = Field(improve->GetOutput(), "ImproveCounts", "BelowFloor");
+  const double locked = Field(improve->GetOutput(), "ImproveCounts", "BelowFloorAllBoundary");
+  std::printf("  plate: %zu tets, %.0f below 0.3, %.0f with all vertices on the boundary\n", out.Tets.size(), below,
+    locked);
+  EXPECT_GT(locked, 0);
+  EXPECT_LE(locked, below);
+  std::size_t counted = 0;
+  for (const Tet& t : out.Tets)
+  {
+    counted += femorph::tet_stretch(out.Points[t[0]], out.Points[t[1]], out.Points[t[2]], out.Points[t[3]]) < 0.3;
+  }
+  EXPECT_EQ(below, static_cast<double>(counted));
+  bool warned = false;
+  for (const auto& w : messages->Warnings)
+  {
+    warned = warned || w.find("all four vertices on the boundary") != std::string::npos;
+  }
+  EXPECT_TRUE(warned);
+}
+
 TEST(Improve, BadInput)
 {
   // Not tetrahedra.
