@@ -197,7 +197,11 @@ namespace {
 /// not scan for: the scan of step 1 finds the short edges too, and a split
 /// changes no edge but its own and those of its new vertex (a projection
 /// moves only that vertex), so the short edges are the ones found by the
-/// scan plus those of the new vertices still alive.
+/// scan plus those of the new vertices still alive. Those are logged as the
+/// splits make them (the new vertex with the edge's ends and ring), so no
+/// ball is walked for them; a logged edge that a later split of the pass
+/// took away was long, and no vertex moves after its split, so it is not
+/// taken for a short one.
 std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
                        std::vector<char>& mask, DensityControlStats* stats, std::vector<HeapEdge>* shorts) {
   const double beta1 = options.split_threshold, beta2 = options.collapse_threshold;
@@ -207,6 +211,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
   MaxHeap heap(Longer(), std::move(longs));
   std::size_t splits = 0;
   std::vector<char> made;  // vertices this pass created
+  std::vector<std::pair<index_t, index_t>> created;  // with `shorts`: the edges the splits made
   const auto made_here = [&made](index_t w) { return static_cast<std::size_t>(w) < made.size() && made[w]; };
   std::vector<index_t> ball;
   // Beyond the thesis: the longest edges are popped in batches, evaluated
@@ -277,6 +282,10 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
         if (p == Projection::Moved && stats) ++stats->projections;
       }
       ++splits;
+      if (shorts) {
+        for (const index_t w : {top.a, top.b}) created.push_back({std::min(v, w), std::max(v, w)});
+        for (const index_t w : e.opposite) created.push_back({std::min(v, w), std::max(v, w)});
+      }
       // Beyond the thesis: the halves of an edge the pass started with go
       // back into the heap when still long (an edge stretched x3 needs two
       // halvings; left to the next loop, the collapses in between undo part
@@ -299,37 +308,25 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
     }
   }
   if (shorts) {
-    // The short edges of the new vertices, ball by ball in parallel.
-    std::vector<index_t> created;
-    for (std::size_t v = 0; v < made.size(); ++v)
-      if (made[v] && mesh.vertex_alive(static_cast<index_t>(v))) created.push_back(static_cast<index_t>(v));
+    // The short edges among those the splits made.
     const long count = static_cast<long>(created.size());
     std::vector<std::vector<HeapEdge>> found(marks.size());
 #pragma omp parallel if (count >= kParallelMinItems)
     {
-      const std::size_t id = static_cast<std::size_t>(omp_get_thread_num());
-      std::vector<index_t> ball, neighbours;
+      std::vector<HeapEdge>& out = found[static_cast<std::size_t>(omp_get_thread_num())];
 #pragma omp for schedule(static)
       for (long i = 0; i < count; ++i) {
-        const index_t v = created[static_cast<std::size_t>(i)];
-        if (!masked(mask, v)) continue;
-        mesh.vertex_ball(v, ball, marks[id]);
-        neighbours.clear();
-        for (const index_t t : ball)
-          for (const index_t w : mesh.tet(t))
-            // An edge between two new vertices once, from its lower end.
-            if (w != v && masked(mask, w) && (w > v || !made_here(w))) neighbours.push_back(w);
-        std::sort(neighbours.begin(), neighbours.end());
-        neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
-        for (const index_t w : neighbours) {
-          const index_t a = std::min(v, w), b = std::max(v, w);
-          double length;
-          const double scaled = scaled_length(mesh, grid, options.lookup, a, b, &length);
-          if (scaled > 0 && scaled <= beta2) found[id].push_back({length, a, b});
-        }
+        const auto [a, b] = created[static_cast<std::size_t>(i)];
+        if (!masked(mask, a) || !masked(mask, b)) continue;
+        double length;
+        const double scaled = scaled_length(mesh, grid, options.lookup, a, b, &length);
+        if (scaled > 0 && scaled <= beta2) out.push_back({length, a, b});
       }
     }
-    for (const std::vector<HeapEdge>& f : found) shorts->insert(shorts->end(), f.begin(), f.end());
+    for (std::vector<HeapEdge>& f : found) {
+      shorts->insert(shorts->end(), f.begin(), f.end());
+      f.clear();
+    }
     sort_unique_by_ends(*shorts);
   }
   return splits;
