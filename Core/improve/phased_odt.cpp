@@ -247,8 +247,8 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
     if (options.progress && !options.progress(fraction, phase)) stats.aborted = true;
     return !stats.aborted;
   };
-  // Time of one step (PhasedOdtStats::kStepNames) from `t0` on; returns now.
-  enum Step { Removal, Density, Accuracy, Smoothing, Flips, Finishing };
+  // Time of one step from `t0` on; returns now.
+  using Step = PhasedOdtStats::Step;
   const auto lap = [&stats](Step step, Clock::time_point t0) {
     const Clock::time_point now = Clock::now();
     stats.step_seconds[step] += std::chrono::duration<double>(now - t0).count();
@@ -279,7 +279,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
   if (options.remove_inverted && stats.inverted_before > 0) {
     const Clock::time_point t0 = Clock::now();
     remove_inverted();
-    lap(Removal, t0);
+    lap(Step::Removal, t0);
   }
 
   static const char* const kPhaseNames[3] = {"boundary curves", "surface triangles", "tetrahedra"};
@@ -307,7 +307,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         stats.removed_spades += ds.removed_spades;
       }
       if (options.remove_inverted && count_inverted(mesh) > 0) remove_inverted();
-      t = lap(Removal, t);
+      t = lap(Step::Removal, t);
 
       // (C) mesh density control (2.6.3), one split and one collapse pass
       // per loop, on the edges of this phase.
@@ -339,7 +339,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         // space, the steps after them walk the mesh 1.5-2x faster at 1M tets.
         if (phase == 2 && dcs.splits + dcs.collapses > 0 && mesh.live_tets() >= options.sort_min_tets)
           mesh.sort_spatially();
-        t = lap(Density, t);
+        t = lap(Step::Density, t);
       }
       // (C) shape approximation accuracy control (2.6.4), on the boundary
       // (in every phase: the density control of phase 3 collapses boundary
@@ -352,7 +352,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         stats.splits += as.splits;
         stats.accuracy_splits += as.splits;
         operations += as.splits;
-        t = lap(Accuracy, t);
+        t = lap(Step::Accuracy, t);
       }
 
       // (A) ODT smoothing of this phase's elements (2.6.5), then its flips.
@@ -366,13 +366,13 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         const OdtSmoothReport r =
             phase == 0 ? odt_smooth_curves(mesh, geometry, bso) : odt_smooth_surface(mesh, geometry, bso);
         stats.moved_vertices += r.moved;
-        t = lap(Smoothing, t);
+        t = lap(Step::Smoothing, t);
         if (phase == 1 && options.flips) {
           SurfaceFlipOptions sfo;
           sfo.vertex_mask = smooth_mask;
           sfo.min_stretch = options.quality_floor;
           stats.surface_flips += flip_surface_edges(mesh, geometry, sfo).flips;
-          t = lap(Flips, t);
+          t = lap(Step::Flips, t);
         }
       } else {
         OdtSmoothOptions oso;
@@ -382,12 +382,12 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         // the finishing step sweeps all of them.
         oso.vertex_mask = vertices_of_poor_tets(mesh, smooth_mask, 0.5);
         stats.moved_vertices += odt_smooth_volume(mesh, oso).moved;
-        t = lap(Smoothing, t);
+        t = lap(Step::Smoothing, t);
         if (options.flips) {
           FlipImproveOptions fo;
           fo.vertex_mask = smooth_mask;
           add_flips(stats, improve_tets_by_flips(mesh, fo));
-          t = lap(Flips, t);
+          t = lap(Step::Flips, t);
         }
       }
       // Fig. 2.34: the loop ends when no density or accuracy operation is
@@ -402,7 +402,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
     if (phase == 2 && !stats.aborted && report(0.95, kPhaseNames[2])) {
       const Clock::time_point t0 = Clock::now();
       finish_improvement(mesh, geometry, target, options, stats);
-      lap(Finishing, t0);
+      lap(Step::Finishing, t0);
     }
     stats.phase_seconds[phase] = seconds_since(phase_start);
     if (stats.aborted) break;

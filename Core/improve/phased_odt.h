@@ -119,11 +119,13 @@ struct PhasedOdtStats {
   std::vector<index_t> remaining_inverted;
   std::array<int, 3> loops{{0, 0, 0}};            ///< modified ODT loops per phase
   std::array<double, 3> phase_seconds{{0, 0, 0}}; ///< curves, surfaces, volume
-  /// The same time by step, over all phases (kStepNames order): degenerate
-  /// and inverted removal, density control, accuracy control, ODT smoothing,
-  /// flips, the finishing step of the volume phase.
-  std::array<double, 6> step_seconds{{0, 0, 0, 0, 0, 0}};
-  static constexpr const char* kStepNames[6] = {"Removal", "Density", "Accuracy", "Smoothing", "Flips", "Finishing"};
+  /// The same time by step, over all phases: degenerate and inverted
+  /// removal, density control, accuracy control, ODT smoothing, flips, the
+  /// finishing step of the volume phase (indexed by Step, named kStepNames).
+  enum Step { Removal, Density, Accuracy, Smoothing, Flips, Finishing, kSteps };
+  static constexpr const char* kStepNames[kSteps] = {"Removal", "Density", "Accuracy", "Smoothing", "Flips",
+                                                     "Finishing"};
+  std::array<double, kSteps> step_seconds{};
   double seconds = 0;
   bool aborted = false;
   bool skipped = false;  ///< the mesh needed nothing (skip_if_good)
