@@ -143,25 +143,12 @@ OpStatus TetMesh::collapse_edge(index_t keep, index_t remove, const Vec3* positi
 
 bool TetMesh::collapse_cavity(index_t keep, index_t remove, const std::vector<index_t>& ball_remove,
                               std::vector<index_t>& ring) {
-  // Tets of ball(remove) off the edge stay, with remove renamed keep; those
-  // on the edge vanish.
+  // Tets of ball(remove) on the edge vanish; the others stay, with remove
+  // renamed keep.
+  (void)remove;
   ring.clear();
-  scratch_new_.clear();
-  scratch_origin_.clear();
-  for (index_t t : ball_remove) {
-    Tet T = rec_[t].v;
-    bool on_edge = false;
-    for (int i = 0; i < 4; ++i) {
-      on_edge = on_edge || T[i] == keep;
-      if (T[i] == remove) T[i] = keep;
-    }
-    if (on_edge) {
-      ring.push_back(t);
-      continue;
-    }
-    scratch_new_.push_back(T);
-    scratch_origin_.push_back(tet_origin_[t]);
-  }
+  for (index_t t : ball_remove)
+    if (local_index(t, keep) >= 0) ring.push_back(t);
   return !ring.empty();
 }
 
@@ -221,12 +208,12 @@ OpStatus TetMesh::collapse_checked_edge(index_t keep, index_t remove, const Vec3
   unchanged.clear();
   for (index_t t : ball_keep)
     if (local_index(t, remove) < 0) unchanged.push_back(t);
-  commit_collapse(keep, remove, p, ball_remove, unchanged);
+  commit_collapse(keep, remove, p, ball_remove, ring, unchanged);
   return OpStatus::Ok;
 }
 
 void TetMesh::commit_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_remove,
-                              const std::vector<index_t>& unchanged) {
+                              const std::vector<index_t>& ring, const std::vector<index_t>& unchanged) {
   // Point data of the merged vertex: linear along the edge at the
   // projection of p (unchanged when p is keep's position).
   if (p != points_[keep]) {
@@ -240,12 +227,53 @@ void TetMesh::commit_collapse(index_t keep, index_t remove, const Vec3& p, const
   }
   // The more constrained class survives (rules (D)-(F) keep that vertex).
   vclass_[keep] = std::max(vclass_[keep], vclass_[remove]);
-  // The cavity is ball(remove); tets on the edge vanish and their two outer
-  // faces are zipped by replace_tets.
-  replace_tets(ball_remove, scratch_new_, scratch_origin_, remove, keep);
+  // A ring tet whose two outer faces are both on the boundary leaves no
+  // tet to glue them to: the general cavity replacement handles it.
+  const bool in_place = std::none_of(ring.begin(), ring.end(), [&](index_t t) {
+    return rec_[t].n[local_index(t, keep)] < 0 && rec_[t].n[local_index(t, remove)] < 0;
+  });
+  if (in_place) {
+    // The tets of ball(remove) off the edge stay in their slots with remove
+    // renamed keep (their faces keep their places, so their links hold);
+    // each vanishing ring tet glues its two outer faces, (remove, x, y) and
+    // (keep, x, y), to each other. A quarter of the work of replace_tets.
+    touched_.clear();
+    for (const index_t t : ring) {
+      const TetRecord& R = rec_[t];
+      const int ik = local_index(t, keep), ir = local_index(t, remove);
+      const index_t across_remove = R.n[ik], across_keep = R.n[ir];
+      if (across_remove >= 0) rec_[across_remove >> 2].n[across_remove & 3] = across_keep;
+      if (across_keep >= 0) rec_[across_keep >> 2].n[across_keep & 3] = across_remove;
+      const index_t survivor = across_remove >= 0 ? across_remove >> 2 : across_keep >> 2;
+      for (int i = 0; i < 4; ++i)
+        if (i != ik && i != ir) vertex_tet_[R.v[i]] = survivor;
+    }
+    for (const index_t t : ball_remove) {
+      if (local_index(t, keep) >= 0) continue;  // a ring tet
+      for (index_t& w : rec_[t].v)
+        if (w == remove) w = keep;
+      touched_.push_back(t);
+    }
+    for (const index_t t : ring) delete_tet(t);
+  } else {
+    scratch_new_.clear();
+    scratch_origin_.clear();
+    for (const index_t t : ball_remove) {
+      if (local_index(t, keep) >= 0) continue;
+      Tet T = rec_[t].v;
+      for (index_t& w : T)
+        if (w == remove) w = keep;
+      scratch_new_.push_back(T);
+      scratch_origin_.push_back(tet_origin_[t]);
+    }
+    // The cavity is ball(remove); tets on the edge vanish and their two
+    // outer faces are zipped by replace_tets.
+    replace_tets(ball_remove, scratch_new_, scratch_origin_, remove, keep);
+  }
   points_[keep] = p;
   delete_vertex(remove);
-  if (!tet_alive(vertex_tet_[keep]) || local_index(vertex_tet_[keep], keep) < 0) vertex_tet_[keep] = unchanged.front();
+  if (!tet_alive(vertex_tet_[keep]) || local_index(vertex_tet_[keep], keep) < 0)
+    vertex_tet_[keep] = !unchanged.empty() ? unchanged.front() : !touched_.empty() ? touched_.front() : kInvalidIndex;
   // Tets of keep's ball that only moved are touched too.
   touched_.insert(touched_.end(), unchanged.begin(), unchanged.end());
 }

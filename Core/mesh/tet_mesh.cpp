@@ -378,7 +378,8 @@ void TetMesh::vertex_ball(index_t v, std::vector<index_t>& out, WalkMarks& marks
   walk_ball(v, out, marks.mark.data(), marks.value);
 }
 
-void TetMesh::walk_ball(index_t v, std::vector<index_t>& out, std::uint16_t* marks, std::uint16_t mark) const {
+index_t TetMesh::walk_ball(index_t v, std::vector<index_t>& out, std::uint16_t* marks, std::uint16_t mark,
+                           index_t stop_at) const {
   // Breadth-first over the faces that contain v (those opposite the other
   // three vertices), marking visited tets.
   const index_t t0 = vertex_tet_[v];
@@ -387,6 +388,8 @@ void TetMesh::walk_ball(index_t v, std::vector<index_t>& out, std::uint16_t* mar
   for (std::size_t i = 0; i < out.size(); ++i) {
     const index_t t = out[i];
     const TetRecord& R = rec_[t];
+    if (stop_at >= 0 && (R.v[0] == stop_at || R.v[1] == stop_at || R.v[2] == stop_at || R.v[3] == stop_at))
+      return t;
     for (int f = 0; f < 4; ++f) {
       if (R.v[f] == v) continue;
       const index_t code = R.n[f];
@@ -398,6 +401,7 @@ void TetMesh::walk_ball(index_t v, std::vector<index_t>& out, std::uint16_t* mar
       }
     }
   }
+  return kInvalidIndex;
 }
 
 void TetMesh::vertex_neighbors(index_t v, std::vector<index_t>& out) const {
@@ -426,20 +430,24 @@ bool TetMesh::edge_tet_without_walk(index_t a, index_t b, index_t hint, index_t*
 index_t TetMesh::find_edge_tet(index_t a, index_t b, index_t hint) const {
   index_t t;
   if (edge_tet_without_walk(a, b, hint, &t)) return t;
-  vertex_ball(a, scratch_verts_);
-  for (index_t u : scratch_verts_)
-    if (local_index(u, b) >= 0) return u;
-  return kInvalidIndex;
+  scratch_verts_.clear();
+  if (vertex_tet_[a] < 0) return kInvalidIndex;
+  const std::uint16_t mark = next_tet_mark();  // may grow tet_mark_
+  return walk_ball(a, scratch_verts_, tet_mark_.data(), mark, b);
 }
 
 index_t TetMesh::find_edge_tet(index_t a, index_t b, index_t hint, WalkMarks& marks) const {
   index_t t;
   if (edge_tet_without_walk(a, b, hint, &t)) return t;
   thread_local std::vector<index_t> ball;
-  vertex_ball(a, ball, marks);
-  for (index_t u : ball)
-    if (local_index(u, b) >= 0) return u;
-  return kInvalidIndex;
+  ball.clear();
+  if (vertex_tet_[a] < 0) return kInvalidIndex;
+  if (marks.mark.size() < rec_.size()) marks.mark.resize(rec_.size(), 0);
+  if (++marks.value == 0) {
+    std::fill(marks.mark.begin(), marks.mark.end(), 0);
+    marks.value = 1;
+  }
+  return walk_ball(a, ball, marks.mark.data(), marks.value, b);
 }
 
 bool TetMesh::edge_ring(index_t a, index_t b, std::vector<index_t>& ring, bool* on_boundary, index_t hint) const {

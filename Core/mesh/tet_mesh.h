@@ -329,14 +329,14 @@ class TetMesh {
   bool open_ring_on_curve(const std::vector<index_t>& ring, const std::vector<index_t>& opposite) const;
   OpStatus collapse_edge_with(index_t keep, index_t remove, const Vec3* position,
                               const std::vector<index_t>* given_keep, const std::vector<index_t>* given_remove);
-  /// The tets of ball_remove on the edge into `ring`, the others, renamed,
-  /// into scratch_new_ / scratch_origin_; false when (keep, remove) is no edge.
+  /// The tets of ball_remove on the edge into `ring`; false when
+  /// (keep, remove) is no edge.
   bool collapse_cavity(index_t keep, index_t remove, const std::vector<index_t>& ball_remove,
                        std::vector<index_t>& ring);
-  /// The change of a collapse whose checks passed (collapse_cavity filled
-  /// the scratch); `unchanged`: the tets of ball_keep off the edge.
+  /// The change of a collapse whose checks passed; `ring`: the tets on the
+  /// edge (collapse_cavity), `unchanged`: the tets of ball_keep off it.
   void commit_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_remove,
-                       const std::vector<index_t>& unchanged);
+                       const std::vector<index_t>& ring, const std::vector<index_t>& unchanged);
   /// Link condition of thesis 2.6.1.3 / Dey et al. for collapsing (a, b):
   /// Lk(a) n Lk(b) = Lk(ab), with a vertex at infinity coning the boundary.
   /// ball_a, ball_b: the balls of a and b; ring: the tets on the edge.
@@ -353,7 +353,11 @@ class TetMesh {
   /// A fresh mark value for tet_mark_ (16 bits: small and cache friendly;
   /// cleared once every 65,535 uses).
   std::uint16_t next_tet_mark() const;
-  void walk_ball(index_t v, std::vector<index_t>& out, std::uint16_t* marks, std::uint16_t mark) const;
+  /// The ball of v breadth-first from vertex_tet_[v] into `out`. With
+  /// `stop_at` >= 0 the walk ends at the first tet holding that vertex too
+  /// and returns it (else -1): the edge search need not walk the rest.
+  index_t walk_ball(index_t v, std::vector<index_t>& out, std::uint16_t* marks, std::uint16_t mark,
+                    index_t stop_at = kInvalidIndex) const;
   /// find_edge_tet's checks that need no walk: true when they decide (*t a
   /// tet on the edge, or -1 for dead or equal ends).
   bool edge_tet_without_walk(index_t a, index_t b, index_t hint, index_t* t) const;
