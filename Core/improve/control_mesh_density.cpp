@@ -22,6 +22,7 @@ namespace {
 struct HeapEdge {
   double length;
   index_t a, b;
+  index_t tet = kInvalidIndex;  // a tet that held the edge when it was found (a hint)
 };
 // Ties broken by the ids so that the order never depends on the heap.
 struct Longer {
@@ -36,8 +37,33 @@ struct Shorter {
     return x.a != y.a ? x.a > y.a : x.b > y.b;
   }
 };
-using MaxHeap = std::priority_queue<HeapEdge, std::vector<HeapEdge>, Longer>;
-using MinHeap = std::priority_queue<HeapEdge, std::vector<HeapEdge>, Shorter>;
+
+/// The heap of steps 1 and 4 (`Lower` as std::priority_queue takes it) as
+/// the scan's edges sorted once plus a heap for the edges pushed later:
+/// the same order of pops as one heap of all of them, without the cache
+/// misses of sifting the scan's edges (x3: 0.4 s of the collapse pass).
+template <class Lower>
+class EdgeQueue {
+ public:
+  explicit EdgeQueue(std::vector<HeapEdge> scanned) : run_(std::move(scanned)) {
+    std::sort(run_.begin(), run_.end(), [](const HeapEdge& x, const HeapEdge& y) { return Lower()(y, x); });
+  }
+  bool empty() const { return next_ == run_.size() && later_.empty(); }
+  HeapEdge pop() {
+    if (next_ < run_.size() && (later_.empty() || !Lower()(run_[next_], later_.top()))) return run_[next_++];
+    const HeapEdge top = later_.top();
+    later_.pop();
+    return top;
+  }
+  void push(const HeapEdge& e) { later_.push(e); }
+
+ private:
+  std::vector<HeapEdge> run_;
+  std::size_t next_ = 0;
+  std::priority_queue<HeapEdge, std::vector<HeapEdge>, Lower> later_;
+};
+using MaxHeap = EdgeQueue<Longer>;
+using MinHeap = EdgeQueue<Shorter>;
 
 bool masked(const std::vector<char>& mask, index_t v) {
   return mask.empty() || (static_cast<std::size_t>(v) < mask.size() && mask[v]);
@@ -87,7 +113,7 @@ void edges_passing(const TetMesh& mesh, const DensityGrid& grid, DensityLookup l
         if (!masked(mask, a) || !masked(mask, b)) continue;
         double length;
         const double s = scaled_length(mesh, grid, lookup, a, b, &length);
-        if (longs && s >= beta1) out_long.push_back({length, a, b});
+        if (longs && s >= beta1) out_long.push_back({length, a, b, static_cast<index_t>(t)});
         if (shorts && s > 0 && s <= beta2) out_short.push_back({length, a, b});
       }
     }
@@ -173,7 +199,7 @@ void evaluate_split(const TetMesh& mesh, const DensityControlOptions& options, T
   e.accepted = false;
   e.ring.clear();
   e.opposite.clear();
-  const index_t t0 = mesh.find_edge_tet(a, b, kInvalidIndex, marks);
+  const index_t t0 = mesh.find_edge_tet(a, b, e.entry.tet, marks);
   e.is_edge = t0 >= 0 && mesh.edge_ring_with_vertices(a, b, e.ring, e.opposite, &e.boundary, t0);
   if (!e.is_edge) return;
   const Vec3 m = 0.5 * (mesh.point(a) + mesh.point(b));
@@ -208,7 +234,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
   // Step 1: edges with L(e) >= beta1 / rho_GC(c_e) into a max-heap by length.
   std::vector<HeapEdge> longs;
   edges_passing(mesh, grid, options.lookup, mask, beta1, beta2, &longs, shorts);
-  MaxHeap heap(Longer(), std::move(longs));
+  MaxHeap heap(std::move(longs));
   std::size_t splits = 0;
   std::vector<char> made;  // vertices this pass created
   std::vector<std::pair<index_t, index_t>> created;  // with `shorts`: the edges the splits made
@@ -228,14 +254,13 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
   while (!heap.empty()) {
     std::size_t n = 0;
     while (n < kBatch && !heap.empty()) {
-      const HeapEdge top = heap.top();
-      heap.pop();
+      const HeapEdge top = heap.pop();
       if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
       // The cheap length test first (failing drops the entry).
       double length;
       if (scaled_length(mesh, grid, options.lookup, top.a, top.b, &length) < beta1) continue;
       if (length != top.length) {  // a projection moved an end: requeue
-        heap.push({length, top.a, top.b});
+        heap.push({length, top.a, top.b, top.tet});
         continue;
       }
       batch[n++].entry = top;
@@ -475,7 +500,7 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
     return s > 0 && s <= beta2;
   };
   // Step 4: edges with L(e) <= beta2 / rho_GC(c_e) into a min-heap.
-  MinHeap heap(Shorter(), std::move(shorts));
+  MinHeap heap(std::move(shorts));
   std::size_t collapses = 0;
   // Beyond the thesis: the shortest edges are popped in batches and
   // evaluated in parallel (read only), then collapsed in heap order; a
@@ -499,8 +524,7 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
     // a copy of the entry just handled would find the mesh as it left it).
     std::size_t n = 0;
     while (n < kBatch && !heap.empty()) {
-      const HeapEdge top = heap.top();
-      heap.pop();
+      const HeapEdge top = heap.pop();
       if (top.length == previous.length && top.a == previous.a && top.b == previous.b) continue;
       previous = top;
       if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
