@@ -22,7 +22,10 @@ namespace {
 struct HeapEdge {
   double length;
   index_t a, b;
-  index_t tet = kInvalidIndex;  // a tet that held the edge when it was found (a hint)
+  // Split heap: a tet that held the edge when it was found (a hint).
+  // Collapse heap: the pass's clock when the entry was made (see
+  // collapse_pass).
+  index_t tet = kInvalidIndex;
 };
 // Ties broken by the ids so that the order never depends on the heap.
 struct Longer {
@@ -187,14 +190,17 @@ struct SplitEval {
   HeapEdge entry{};
   bool is_edge = false, accepted = false, boundary = false;
   std::vector<index_t> ring, opposite;  // as edge_ring_with_vertices lists them
+  // Length and scaled length of (a, m) and (b, m), m the midpoint: the
+  // halves the split pass requeues when long, looked up in parallel.
+  double half_length[2] = {0, 0}, half_scaled[2] = {0, 0};
 };
 
 /// Steps 2-3 for one candidate without changing the mesh: its ring, and
 /// whether the split keeps the stretch floor (every ring tet becomes two,
 /// one with each end replaced by the midpoint). Read only, with the
 /// caller's walk marks, so candidates can be evaluated in parallel.
-void evaluate_split(const TetMesh& mesh, const DensityControlOptions& options, TetMesh::WalkMarks& marks,
-                    SplitEval& e) {
+void evaluate_split(const TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
+                    TetMesh::WalkMarks& marks, SplitEval& e) {
   const index_t a = e.entry.a, b = e.entry.b;
   e.accepted = false;
   e.ring.clear();
@@ -203,6 +209,11 @@ void evaluate_split(const TetMesh& mesh, const DensityControlOptions& options, T
   e.is_edge = t0 >= 0 && mesh.edge_ring_with_vertices(a, b, e.ring, e.opposite, &e.boundary, t0);
   if (!e.is_edge) return;
   const Vec3 m = 0.5 * (mesh.point(a) + mesh.point(b));
+  for (int k = 0; k < 2; ++k) {  // as scaled_length(mesh, grid, lookup, end, m) computes them
+    const Vec3& p = mesh.point(k == 0 ? a : b);
+    e.half_length[k] = (m - p).norm();
+    e.half_scaled[k] = e.half_length[k] * grid.density_at(0.5 * (p + m), options.lookup);
+  }
   double old_min = std::numeric_limits<double>::infinity(), new_min = old_min;
   for (const index_t t : e.ring) {
     new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, a, m));
@@ -256,11 +267,14 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
     while (n < kBatch && !heap.empty()) {
       const HeapEdge top = heap.pop();
       if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
-      // The cheap length test first (failing drops the entry).
-      double length;
-      if (scaled_length(mesh, grid, options.lookup, top.a, top.b, &length) < beta1) continue;
-      if (length != top.length) {  // a projection moved an end: requeue
-        heap.push({length, top.a, top.b, top.tet});
+      // No vertex moves in this pass once an edge of it is queued (a
+      // projection moves the new vertex before its halves are queued), so
+      // the entry is still long (the field is fixed): no density lookup.
+      // The length is compared as a guard: requeued while long.
+      if ((mesh.point(top.b) - mesh.point(top.a)).norm() != top.length) {
+        double length;
+        if (scaled_length(mesh, grid, options.lookup, top.a, top.b, &length) >= beta1)
+          heap.push({length, top.a, top.b, top.tet});
         continue;
       }
       batch[n++].entry = top;
@@ -268,7 +282,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
     const long count = static_cast<long>(n);
 #pragma omp parallel for schedule(dynamic, 8) if (count >= 32)
     for (long i = 0; i < count; ++i)
-      evaluate_split(mesh, options, marks[static_cast<std::size_t>(omp_get_thread_num())],
+      evaluate_split(mesh, grid, options, marks[static_cast<std::size_t>(omp_get_thread_num())],
                      batch[static_cast<std::size_t>(i)]);
     ++batch_id;
     if (changed.size() < static_cast<std::size_t>(mesh.vertex_slots()))
@@ -320,12 +334,15 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
       const bool original_edge = !made_here(top.a) && !made_here(top.b);
       if (static_cast<std::size_t>(v) >= made.size()) made.resize(static_cast<std::size_t>(v) + 1, 0);
       made[v] = 1;
-      if (options.resplit_halves && original_edge)
-        for (const index_t end : {top.a, top.b}) {
-          double half;
-          if (scaled_length(mesh, grid, options.lookup, end, v, &half) >= beta1)
-            heap.push({half, std::min(end, v), std::max(end, v)});
+      if (options.resplit_halves && original_edge) {
+        const bool at_midpoint = mesh.point(v) == Vec3(0.5 * (mesh.point(top.a) + mesh.point(top.b)));
+        for (int k = 0; k < 2; ++k) {
+          const index_t end = k == 0 ? top.a : top.b;
+          double half = e.half_length[k], scaled = e.half_scaled[k];
+          if (!at_midpoint) scaled = scaled_length(mesh, grid, options.lookup, end, v, &half);
+          if (scaled >= beta1) heap.push({half, std::min(end, v), std::max(end, v)});
         }
+      }
       if (!mask.empty()) {
         if (static_cast<std::size_t>(v) >= mask.size()) mask.resize(static_cast<std::size_t>(v) + 1, 0);
         mask[v] = 1;
@@ -377,6 +394,12 @@ struct CollapseEval {
   // Both balls, and the vertices of their tets except the two ends (the
   // surviving vertex's neighbours); only a's ball when the rules refuse.
   std::vector<index_t> ball_a, ball_keep, ball_remove, neighbours;
+  // Per candidate position (3 x neighbours): the length and scaled length
+  // of the surviving vertex's edge to each neighbour, as the long-edge test
+  // found them; those of the chosen position are the edges the commit
+  // queues when short, with no density lookup in the serial part.
+  std::vector<double> lengths, scaled;
+  int chosen = 0;  // the candidate position taken
 };
 
 /// Step 6 for one candidate without changing the mesh: the rules of
@@ -435,6 +458,8 @@ void evaluate_collapse(const TetMesh& mesh, const DensityGrid& grid, const Densi
   const int n_candidates = ck == mesh.vertex_class(plan.remove) && ck != VertexClass::Corner ? 3 : 1;
   const bool boundary_collapse =
       options.accept_boundary_collapse && (mesh.on_boundary(plan.keep) || mesh.on_boundary(plan.remove));
+  e.lengths.resize(3 * e.neighbours.size());
+  e.scaled.resize(3 * e.neighbours.size());
   double old_min = std::numeric_limits<double>::quiet_NaN();
   int best = -1;
   double best_min = -std::numeric_limits<double>::infinity();
@@ -445,9 +470,14 @@ void evaluate_collapse(const TetMesh& mesh, const DensityGrid& grid, const Densi
     // (else a split and a collapse can undo each other forever; the
     // thesis' convergence condition on beta1, beta2 assumes this).
     bool creates_long_edge = false;
-    for (const index_t n : e.neighbours) {
-      const Vec3& q = mesh.point(n);
-      creates_long_edge = (q - x).norm() * grid.density_at(0.5 * (q + x), options.lookup) >= options.split_threshold;
+    const std::size_t row = static_cast<std::size_t>(c) * e.neighbours.size();
+    for (std::size_t i = 0; i < e.neighbours.size(); ++i) {
+      const Vec3& q = mesh.point(e.neighbours[i]);
+      const double length = (q - x).norm();
+      const double s = length * grid.density_at(0.5 * (q + x), options.lookup);
+      e.lengths[row + i] = length;
+      e.scaled[row + i] = s;
+      creates_long_edge = s >= options.split_threshold;
       if (creates_long_edge) break;
     }
     if (creates_long_edge) continue;
@@ -480,6 +510,7 @@ void evaluate_collapse(const TetMesh& mesh, const DensityGrid& grid, const Densi
   }
   if (best < 0) return;
   e.position = candidates[best];
+  e.chosen = best;
   e.projected = e.projected && best == 0;
   if (mesh.check_collapse(plan.keep, plan.remove, e.position, e.ball_keep, e.ball_remove, link_stamps) != OpStatus::Ok)
     return;
@@ -500,6 +531,13 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
     return s > 0 && s <= beta2;
   };
   // Step 4: edges with L(e) <= beta2 / rho_GC(c_e) into a min-heap.
+  // The pass's clock: an entry made at time t (HeapEdge::tet) is as its
+  // ends are when neither has moved at t or later (moved_at; the clock
+  // ticks at every collapse, whose surviving vertex is the only one that
+  // moves).
+  index_t clock = 1;
+  std::vector<index_t> moved_at(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  for (HeapEdge& h : shorts) h.tet = clock;
   MinHeap heap(std::move(shorts));
   std::size_t collapses = 0;
   // Beyond the thesis: the shortest edges are popped in batches and
@@ -528,11 +566,17 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
       if (top.length == previous.length && top.a == previous.a && top.b == previous.b) continue;
       previous = top;
       if (!mesh.vertex_alive(top.a) || !mesh.vertex_alive(top.b)) continue;
-      double length;
-      if (!qualifies(top.a, top.b, &length)) continue;
-      if (length != top.length) {
-        heap.push({length, top.a, top.b});
-        continue;
+      // Ends unmoved since the entry was made: still short (the field is
+      // fixed), no density lookup. Else checked again: dropped when no
+      // longer short, requeued when its length changed.
+      if (moved_at[static_cast<std::size_t>(top.a)] >= top.tet ||
+          moved_at[static_cast<std::size_t>(top.b)] >= top.tet) {
+        double length;
+        if (!qualifies(top.a, top.b, &length)) continue;
+        if (length != top.length) {
+          heap.push({length, top.a, top.b, clock + 1});
+          continue;
+        }
       }
       batch[n++].entry = top;
     }
@@ -571,17 +615,23 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
         continue;
       }
       ++collapses;
+      moved_at[static_cast<std::size_t>(e.plan.keep)] = ++clock;
       if (e.projected && stats) ++stats->projections;
       changed[static_cast<std::size_t>(e.plan.keep)] = batch_id;
       changed[static_cast<std::size_t>(e.plan.remove)] = batch_id;
       // Edges around the surviving vertex (its neighbours are `neighbours`)
       // that now qualify go into the heap (duplicates are harmless: stale
       // entries are skipped when popped).
+      // Their lengths are the evaluation's: keep is where it was put and
+      // the neighbours have not moved (the candidate was fresh).
       const index_t keep = e.plan.keep;
-      for (const index_t w : e.neighbours) {
+      const std::size_t row = static_cast<std::size_t>(e.chosen) * e.neighbours.size();
+      for (std::size_t i = 0; i < e.neighbours.size(); ++i) {
+        const index_t w = e.neighbours[i];
         if (!masked(mask, w) || !masked(mask, keep)) continue;
-        double length;
-        if (qualifies(keep, w, &length)) heap.push({length, std::min(keep, w), std::max(keep, w)});
+        const double scaled = e.scaled[row + i];
+        if (scaled > 0 && scaled <= beta2)
+          heap.push({e.lengths[row + i], std::min(keep, w), std::max(keep, w), clock + 1});
       }
     }
   }

@@ -192,10 +192,23 @@ FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions&
   };
   // Queued with a stride: neighbouring slots hold neighbouring tets
   // (TetMesh::sort_spatially), and a batch of neighbours mostly conflicts.
+  // The stretches first, in parallel and in slot order (a serial scan in
+  // stride order missed the cache on every tet: 0.1 s per call at 1M tets).
   constexpr index_t kStride = 61;
-  for (index_t s = 0; s < kStride; ++s)
-    for (index_t t = s; t < mesh.tet_slots(); t += kStride)
-      if (mesh.tet_alive(t)) push(t);
+  {
+    const long slots = mesh.tet_slots();
+    std::vector<std::uint8_t> poor(static_cast<std::size_t>(slots), 0);
+#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
+    for (long t = 0; t < slots; ++t)
+      poor[static_cast<std::size_t>(t)] =
+          mesh.tet_alive(static_cast<index_t>(t)) && !(eval.stretch(static_cast<index_t>(t)) >= options.quality_threshold);
+    for (index_t s = 0; s < kStride; ++s)
+      for (index_t t = s; t < slots; t += kStride)
+        if (poor[static_cast<std::size_t>(t)]) {
+          queued[t] = 1;
+          queue.push_back(t);
+        }
+  }
 
   // Beyond the thesis: the queue is taken in batches, whose candidates are
   // evaluated in parallel and applied in queue order. A flip changes only
