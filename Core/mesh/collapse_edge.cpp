@@ -141,11 +141,9 @@ OpStatus TetMesh::collapse_edge(index_t keep, index_t remove, const Vec3* positi
   return collapse_edge_with(keep, remove, position, &ball_keep, &ball_remove);
 }
 
-bool TetMesh::collapse_cavity(index_t keep, index_t remove, const std::vector<index_t>& ball_remove,
-                              std::vector<index_t>& ring) {
+bool TetMesh::collapse_cavity(index_t keep, const std::vector<index_t>& ball_remove, std::vector<index_t>& ring) {
   // Tets of ball(remove) on the edge vanish; the others stay, with remove
   // renamed keep.
-  (void)remove;
   ring.clear();
   for (index_t t : ball_remove)
     if (local_index(t, keep) >= 0) ring.push_back(t);
@@ -204,7 +202,7 @@ OpStatus TetMesh::collapse_checked_edge(index_t keep, index_t remove, const Vec3
                                         const std::vector<index_t>& ball_keep,
                                         const std::vector<index_t>& ball_remove) {
   thread_local std::vector<index_t> ring, unchanged;
-  if (!collapse_cavity(keep, remove, ball_remove, ring)) return OpStatus::InvalidArgument;
+  if (!collapse_cavity(keep, ball_remove, ring)) return OpStatus::InvalidArgument;
   unchanged.clear();
   for (index_t t : ball_keep)
     if (local_index(t, remove) < 0) unchanged.push_back(t);
@@ -236,7 +234,7 @@ void TetMesh::commit_collapse(index_t keep, index_t remove, const Vec3& p, const
     // The tets of ball(remove) off the edge stay in their slots with remove
     // renamed keep (their faces keep their places, so their links hold);
     // each vanishing ring tet glues its two outer faces, (remove, x, y) and
-    // (keep, x, y), to each other. A quarter of the work of replace_tets.
+    // (keep, x, y), to each other: no new slots and no face matching.
     touched_.clear();
     for (const index_t t : ring) {
       const TetRecord& R = rec_[t];

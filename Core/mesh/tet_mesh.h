@@ -331,8 +331,7 @@ class TetMesh {
                               const std::vector<index_t>* given_keep, const std::vector<index_t>* given_remove);
   /// The tets of ball_remove on the edge into `ring`; false when
   /// (keep, remove) is no edge.
-  bool collapse_cavity(index_t keep, index_t remove, const std::vector<index_t>& ball_remove,
-                       std::vector<index_t>& ring);
+  bool collapse_cavity(index_t keep, const std::vector<index_t>& ball_remove, std::vector<index_t>& ring);
   /// The change of a collapse whose checks passed; `ring`: the tets on the
   /// edge (collapse_cavity), `unchanged`: the tets of ball_keep off it.
   void commit_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_remove,
