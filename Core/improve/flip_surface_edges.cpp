@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace femorph {
@@ -50,8 +51,20 @@ SurfaceFlipStats flip_surface_edges(TetMesh& mesh, const BoundaryGeometry& geome
     return mask.empty() || (static_cast<std::size_t>(v) < mask.size() && mask[v]);
   };
   std::vector<index_t> ring;
+  // An edge's test reads only its ring (and the positions, which a flip
+  // does not change), and a flip that changes a tet of that ring touches
+  // tets holding both ends. So from the second pass on, an edge neither of
+  // whose ends was touched since the previous pass began would be refused
+  // again: it is skipped without walking its ring or retrying a flip that
+  // failed (a failed flip restores the tets, in other slots).
+  std::vector<std::uint32_t> touched_at(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  std::uint32_t clock = 1, previous_start = 0;
+  const auto untouched_since = [&](index_t v, std::uint32_t since) {
+    return static_cast<std::size_t>(v) < touched_at.size() && touched_at[static_cast<std::size_t>(v)] < since;
+  };
   for (int pass = 0; pass < options.max_passes; ++pass) {
     std::size_t flips = 0;
+    const std::uint32_t pass_start = clock;
     for (index_t t = 0; t < mesh.tet_slots(); ++t) {
       for (int f = 0; f < 4; ++f) {
         if (!mesh.tet_alive(t)) break;
@@ -67,6 +80,7 @@ SurfaceFlipStats flip_surface_edges(TetMesh& mesh, const BoundaryGeometry& geome
           // Face (a, b, c) outward; each edge once, from the face where a < b.
           const index_t a = u[e], b = u[(e + 1) % 3], c = u[(e + 2) % 3];
           if (a > b || !masked_in(a) || !masked_in(b) || !masked_in(c)) continue;
+          if (pass > 0 && untouched_since(a, previous_start) && untouched_since(b, previous_start)) continue;
           bool on_boundary = false;
           if (!mesh.edge_ring(a, b, ring, &on_boundary, t) || !on_boundary || ring.size() < 2) continue;
           index_t c0 = kInvalidIndex, c1 = kInvalidIndex, r0 = kInvalidIndex, r1 = kInvalidIndex;
@@ -117,6 +131,11 @@ SurfaceFlipStats flip_surface_edges(TetMesh& mesh, const BoundaryGeometry& geome
           if (ok && mesh.flip_surface_edge(a, b, t) == OpStatus::Ok) {
             ++stats.flips;
             ++flips;
+            ++clock;
+            if (touched_at.size() < static_cast<std::size_t>(mesh.vertex_slots()))
+              touched_at.resize(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+            for (const index_t n : mesh.touched_tets())
+              for (const index_t w : mesh.tet(n)) touched_at[static_cast<std::size_t>(w)] = clock;
             break;  // tet t changed: go on with its next face
           }
           ++stats.refused;
@@ -124,6 +143,7 @@ SurfaceFlipStats flip_surface_edges(TetMesh& mesh, const BoundaryGeometry& geome
       }
     }
     if (flips == 0) break;
+    previous_start = pass_start;
   }
   return stats;
 }
