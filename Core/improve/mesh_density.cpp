@@ -39,14 +39,17 @@ void fill_from_neighbours(const std::array<int, 3>& dims, std::vector<double>& v
                           std::vector<char>& known) {
   const long total = static_cast<long>(dims[0]) * dims[1] * dims[2];
   const bool parallel = total >= kParallelMinItems;
-  const int offsets[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
-  // The entry next to q across offset o, or -1 off the grid.
-  const auto neighbour = [&](long q, const int* o) -> long {
-    const int i = static_cast<int>(q % dims[0]), j = static_cast<int>((q / dims[0]) % dims[1]),
-              k = static_cast<int>(q / (static_cast<long>(dims[0]) * dims[1]));
-    const int a = i + o[0], b = j + o[1], c = k + o[2];
-    if (a < 0 || b < 0 || c < 0 || a >= dims[0] || b >= dims[1] || c >= dims[2]) return -1;
-    return (static_cast<long>(c) * dims[1] + b) * dims[0] + a;
+  // The entries next to q across -x, +x, -y, +y, -z, +z (this order: the
+  // sums below add in it), each passed to f; q split into (i, j, k) once.
+  const long sy = dims[0], sz = static_cast<long>(dims[0]) * dims[1];
+  const auto for_each_neighbour = [&](long q, auto&& f) {
+    const long k = q / sz, rest = q - k * sz, j = rest / sy, i = rest - j * sy;
+    if (i > 0) f(q - 1);
+    if (i + 1 < dims[0]) f(q + 1);
+    if (j > 0) f(q - sy);
+    if (j + 1 < dims[1]) f(q + sy);
+    if (k > 0) f(q - sz);
+    if (k + 1 < dims[2]) f(q + sz);
   };
   std::vector<char> queued(known);
   std::vector<long> layer;
@@ -59,13 +62,9 @@ void fill_from_neighbours(const std::array<int, 3>& dims, std::vector<double>& v
 #pragma omp for schedule(static)
     for (long q = 0; q < total; ++q) {
       if (known[static_cast<std::size_t>(q)]) continue;
-      for (const auto& o : offsets) {
-        const long r = neighbour(q, o);
-        if (r >= 0 && known[static_cast<std::size_t>(r)]) {
-          out.push_back(q);
-          break;
-        }
-      }
+      bool next_to_known = false;
+      for_each_neighbour(q, [&](long r) { next_to_known = next_to_known || known[static_cast<std::size_t>(r)]; });
+      if (next_to_known) out.push_back(q);
     }
   }
   for (std::vector<long>& f : found) {
@@ -82,13 +81,12 @@ void fill_from_neighbours(const std::array<int, 3>& dims, std::vector<double>& v
     for (long n = 0; n < layer_size; ++n) {
       double sum = 0;
       int count = 0;
-      for (const auto& o : offsets) {
-        const long r = neighbour(layer[static_cast<std::size_t>(n)], o);
-        if (r >= 0 && known[static_cast<std::size_t>(r)]) {
+      for_each_neighbour(layer[static_cast<std::size_t>(n)], [&](long r) {
+        if (known[static_cast<std::size_t>(r)]) {
           sum += values[static_cast<std::size_t>(r)];
           ++count;
         }
-      }
+      });
       layer_values[static_cast<std::size_t>(n)] = count ? sum / count : 0.0;
     }
 #pragma omp parallel for schedule(static) if (parallel_layer)
@@ -103,12 +101,11 @@ void fill_from_neighbours(const std::array<int, 3>& dims, std::vector<double>& v
       std::vector<long>& out = found[static_cast<std::size_t>(omp_get_thread_num())];
 #pragma omp for schedule(static)
       for (long n = 0; n < layer_size; ++n)
-        for (const auto& o : offsets) {
-          const long r = neighbour(layer[static_cast<std::size_t>(n)], o);
-          if (r >= 0 && !__atomic_load_n(&queued[static_cast<std::size_t>(r)], __ATOMIC_RELAXED) &&
+        for_each_neighbour(layer[static_cast<std::size_t>(n)], [&](long r) {
+          if (!__atomic_load_n(&queued[static_cast<std::size_t>(r)], __ATOMIC_RELAXED) &&
               !__atomic_exchange_n(&queued[static_cast<std::size_t>(r)], char(1), __ATOMIC_RELAXED))
             out.push_back(r);
-        }
+        });
     }
     layer.clear();
     for (std::vector<long>& f : found) {
@@ -269,9 +266,25 @@ bool DensityGrid::build(const std::vector<Vec3>& points, const std::vector<Tet>&
       i0[a] = std::max(0, static_cast<int>(std::ceil((tlo[a] - origin_[a]) / h_ - kTol)));
       i1[a] = std::min(n_[a], static_cast<int>(std::floor((thi[a] - origin_[a]) / h_ + kTol)));
     }
+    // Barycentric coordinates as an affine function of the grid point: a
+    // cheap first test that skips most of the box (a tet fills a sixth of
+    // it or less; x3 benchmark grid 0.26 -> 0.17 s). Its tolerance is loose
+    // and it is left out for flat tets (6V / L^3 < 1e-4), so value_in
+    // alone decides, as before.
+    Eigen::Matrix3d edges;
+    edges << p[1] - p[0], p[2] - p[0], p[3] - p[0];
+    const double longest = std::max({edges.col(0).norm(), edges.col(1).norm(), edges.col(2).norm(),
+                                     (p[2] - p[1]).norm(), (p[3] - p[1]).norm(), (p[3] - p[2]).norm()});
+    const bool prefilter = std::abs(volume) > 1e-4 * longest * longest * longest;
+    const Eigen::Matrix3d to_bary = prefilter ? Eigen::Matrix3d(edges.inverse()) : Eigen::Matrix3d::Zero();
+    constexpr double kLoose = 1e-6;
     for (int k = i0[2]; k <= i1[2]; ++k)
       for (int j = i0[1]; j <= i1[1]; ++j)
         for (int i = i0[0]; i <= i1[0]; ++i) {
+          if (prefilter) {
+            const Vec3 l = to_bary * (origin_ + h_ * Vec3(i, j, k) - p[0]);
+            if (!(l.minCoeff() >= -kLoose && l.sum() <= 1 + kLoose)) continue;
+          }
           std::atomic<index_t>& o = owner[point_id(i, j, k)];
           index_t current = o.load(std::memory_order_relaxed);
           if (current != kInvalidIndex && current < ti) continue;
