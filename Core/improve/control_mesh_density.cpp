@@ -2,6 +2,7 @@
 #include "improve/control_mesh_density.h"
 
 #include "improve/ball_quality.h"
+#include "improve/edge_queue.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
 
@@ -9,7 +10,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <queue>
 #include <utility>
 
 #include <omp.h>
@@ -17,57 +17,6 @@
 namespace femorph {
 
 namespace {
-
-
-struct HeapEdge {
-  double length;
-  index_t a, b;
-  // Split heap: a tet that held the edge when it was found (a hint).
-  // Collapse heap: the pass's clock when the entry was made (see
-  // collapse_pass).
-  index_t tet = kInvalidIndex;
-};
-// Ties broken by the ids so that the order never depends on the heap.
-struct Longer {
-  bool operator()(const HeapEdge& x, const HeapEdge& y) const {
-    if (x.length != y.length) return x.length < y.length;
-    return x.a != y.a ? x.a > y.a : x.b > y.b;
-  }
-};
-struct Shorter {
-  bool operator()(const HeapEdge& x, const HeapEdge& y) const {
-    if (x.length != y.length) return x.length > y.length;
-    return x.a != y.a ? x.a > y.a : x.b > y.b;
-  }
-};
-
-/// The heap of steps 1 and 4 (`Lower` as std::priority_queue takes it) as
-/// the scan's edges sorted once plus a heap for the edges pushed later:
-/// the same order of pops as one heap of all of them, without the cache
-/// misses of sifting the scan's edges (x3, loop 0: the collapse pass's
-/// pops 0.46 -> 0.26 s).
-template <class Lower>
-class EdgeQueue {
- public:
-  explicit EdgeQueue(std::vector<HeapEdge> scanned) : run_(std::move(scanned)) {
-    std::sort(run_.begin(), run_.end(), [](const HeapEdge& x, const HeapEdge& y) { return Lower()(y, x); });
-  }
-  bool empty() const { return next_ == run_.size() && later_.empty(); }
-  HeapEdge pop() {
-    if (next_ < run_.size() && (later_.empty() || !Lower()(run_[next_], later_.top()))) return run_[next_++];
-    const HeapEdge top = later_.top();
-    later_.pop();
-    return top;
-  }
-  void push(const HeapEdge& e) { later_.push(e); }
-
- private:
-  std::vector<HeapEdge> run_;
-  std::size_t next_ = 0;
-  std::priority_queue<HeapEdge, std::vector<HeapEdge>, Lower> later_;
-};
-using MaxHeap = EdgeQueue<Longer>;
-using MinHeap = EdgeQueue<Shorter>;
 
 bool masked(const std::vector<char>& mask, index_t v) {
   return mask.empty() || (static_cast<std::size_t>(v) < mask.size() && mask[v]);
@@ -206,7 +155,7 @@ void evaluate_split(const TetMesh& mesh, const DensityGrid& grid, const DensityC
   e.accepted = false;
   e.ring.clear();
   e.opposite.clear();
-  const index_t t0 = mesh.find_edge_tet(a, b, e.entry.tet, marks);
+  const index_t t0 = mesh.find_edge_tet(a, b, e.entry.tag, marks);
   e.is_edge = t0 >= 0 && mesh.edge_ring_with_vertices(a, b, e.ring, e.opposite, &e.boundary, t0);
   if (!e.is_edge) return;
   const Vec3 m = 0.5 * (mesh.point(a) + mesh.point(b));
@@ -246,7 +195,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
   // Step 1: edges with L(e) >= beta1 / rho_GC(c_e) into a max-heap by length.
   std::vector<HeapEdge> longs;
   edges_passing(mesh, grid, options.lookup, mask, beta1, beta2, &longs, shorts);
-  MaxHeap heap(std::move(longs));
+  MaxEdgeQueue heap(std::move(longs));
   std::size_t splits = 0;
   std::vector<char> made;  // vertices this pass created
   std::vector<std::pair<index_t, index_t>> created;  // with `shorts`: the edges the splits made
@@ -275,7 +224,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
       if ((mesh.point(top.b) - mesh.point(top.a)).norm() != top.length) {
         double length;
         if (scaled_length(mesh, grid, options.lookup, top.a, top.b, &length) >= beta1)
-          heap.push({length, top.a, top.b, top.tet});
+          heap.push({length, top.a, top.b, top.tag});
         continue;
       }
       batch[n++].entry = top;
@@ -532,14 +481,14 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
     return s > 0 && s <= beta2;
   };
   // Step 4: edges with L(e) <= beta2 / rho_GC(c_e) into a min-heap.
-  // The pass's clock: an entry made at time t (HeapEdge::tet) is as its
+  // The pass's clock: an entry made at time t (HeapEdge::tag) is as its
   // ends are when neither has moved at t or later (moved_at; the clock
   // ticks at every collapse, whose surviving vertex is the only one that
   // moves).
   index_t clock = 1;
   std::vector<index_t> moved_at(static_cast<std::size_t>(mesh.vertex_slots()), 0);
-  for (HeapEdge& h : shorts) h.tet = clock;
-  MinHeap heap(std::move(shorts));
+  for (HeapEdge& h : shorts) h.tag = clock;
+  MinEdgeQueue heap(std::move(shorts));
   std::size_t collapses = 0;
   // Beyond the thesis: the shortest edges are popped in batches and
   // evaluated in parallel (read only), then collapsed in heap order; a
@@ -570,14 +519,18 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
       // Ends unmoved since the entry was made: still short (the field is
       // fixed), no density lookup. Else checked again: dropped when no
       // longer short, requeued when its length changed.
-      if (moved_at[static_cast<std::size_t>(top.a)] >= top.tet ||
-          moved_at[static_cast<std::size_t>(top.b)] >= top.tet) {
+      if (moved_at[static_cast<std::size_t>(top.a)] >= top.tag ||
+          moved_at[static_cast<std::size_t>(top.b)] >= top.tag) {
         double length;
         if (!qualifies(top.a, top.b, &length)) continue;
         if (length != top.length) {
           heap.push({length, top.a, top.b, clock + 1});
           continue;
         }
+      } else if (options.check_queue && stats) {
+        double length;
+        ++stats->queue_checked;
+        if (!qualifies(top.a, top.b, &length) || length != top.length) ++stats->queue_disagreements;
       }
       batch[n++].entry = top;
     }

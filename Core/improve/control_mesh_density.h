@@ -80,6 +80,12 @@ struct DensityControlOptions {
   /// vertices are flagged are split or collapsed (vertices a split creates
   /// inherit the flag). Empty: every edge.
   std::vector<char> vertex_mask;
+  /// A check for tests: the collapse pass also looks up every heap entry it
+  /// takes as current without a lookup (neither end moved since it was
+  /// queued; DensityControlStats::queue_checked) and counts those no longer
+  /// short or of another length (queue_disagreements: 0 unless that
+  /// bookkeeping is wrong).
+  bool check_queue = false;
   /// Measure Eq. 2.35 before and after (error_before/after); off for
   /// callers that measure it themselves (two passes over every edge).
   bool measure_error = true;
@@ -88,9 +94,11 @@ struct DensityControlOptions {
 struct DensityControlStats {
   std::size_t splits = 0;
   std::size_t collapses = 0;
-  std::size_t refused_splits = 0;     ///< by validity or the stretch floor
-  std::size_t refused_collapses = 0;  ///< by Fig. 2.37, link, validity, floor
-  std::size_t projections = 0;        ///< project callbacks applied
+  std::size_t refused_splits = 0;       ///< by validity or the stretch floor
+  std::size_t refused_collapses = 0;    ///< by Fig. 2.37, link, validity, floor
+  std::size_t projections = 0;          ///< project callbacks applied
+  std::size_t queue_checked = 0;        ///< with check_queue only
+  std::size_t queue_disagreements = 0;  ///< with check_queue only
   int iterations = 0;
   bool converged = false;  ///< the last round changed nothing
   DensityError error_before;  ///< Eq. 2.35, with options.lookup

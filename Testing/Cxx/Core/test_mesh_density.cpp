@@ -1,6 +1,7 @@
 // Mesh density (thesis 2.6.3 Eq. 2.32, 2.33, 2.35) and its control by edge
 // split and collapse (Fig. 2.40).
 #include "improve/control_mesh_density.h"
+#include "improve/edge_queue.h"
 #include "improve/mesh_density.h"
 #include "mesh/tet_mesh.h"
 #include "mesh/unique_edges.h"
@@ -16,6 +17,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <ostream>
+#include <queue>
 #include <random>
 #include <string>
 
@@ -512,6 +514,72 @@ TEST(MeshDensity, OneSplitPassHalvesTwice) {
               splits_twice, twice, splits_once, once);
   EXPECT_GT(splits_twice, 2 * splits_once);
   EXPECT_LT(twice, once * 6 / 10);
+}
+
+// The collapse pass takes a heap entry as current, without a density
+// lookup, when neither end has moved since it was queued (a clock per pass).
+// A length compare would not do: repeated halving makes equal, parallel
+// edges, and two vertices can move by bit-identical vectors. The check looks
+// every such entry up anyway: none may have become long or changed length.
+TEST(MeshDensity, CollapseQueueTakesOnlyCurrentEntriesWithoutLookup) {
+  for (const double factor : {0.5, 3.0}) {
+    DensityControlOptions options;
+    options.check_queue = true;
+    const DensityRun run = run_stretched(10, 0.1, factor, options);
+    std::printf("x%.1f: %zu collapses, %zu entries taken without lookup, %zu disagree\n", factor,
+                run.stats.collapses, run.stats.queue_checked, run.stats.queue_disagreements);
+    EXPECT_GT(run.stats.collapses, 500u);
+    EXPECT_GT(run.stats.queue_checked, run.stats.collapses / 2);
+    EXPECT_EQ(run.stats.queue_disagreements, 0u);
+    // The check only looks: the same mesh as without it.
+    const DensityRun plain = run_stretched(10, 0.1, factor, DensityControlOptions{});
+    EXPECT_EQ(plain.out.points, run.out.points);
+    EXPECT_EQ(plain.out.tets, run.out.tets);
+  }
+}
+
+// EdgeQueue (the scan's edges sorted once plus a heap for later pushes) must
+// pop in the order of one std::priority_queue of all entries, with pushes
+// between pops and many equal lengths (ties broken by the ends).
+template <class Lower>
+void expect_pops_as_one_heap(std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> length(0, 12), end(0, 40), action(0, 2);
+  const auto random_edge = [&] {
+    const index_t a = end(rng), b = end(rng);
+    return HeapEdge{0.125 * length(rng), std::min(a, b), std::max(a, b)};
+  };
+  std::vector<HeapEdge> scanned(400);
+  for (HeapEdge& e : scanned) e = random_edge();
+  EdgeQueue<Lower> queue(scanned);
+  std::priority_queue<HeapEdge, std::vector<HeapEdge>, Lower> one_heap(Lower(), scanned);
+  std::size_t pops = 0, pushes = 0;
+  while (!one_heap.empty()) {
+    ASSERT_FALSE(queue.empty());
+    if (action(rng) == 0 && pushes < 600) {
+      const HeapEdge e = random_edge();
+      queue.push(e);
+      one_heap.push(e);
+      ++pushes;
+      continue;
+    }
+    const HeapEdge x = queue.pop(), y = one_heap.top();
+    one_heap.pop();
+    ASSERT_EQ(x.length, y.length) << "pop " << pops;
+    ASSERT_EQ(x.a, y.a) << "pop " << pops;
+    ASSERT_EQ(x.b, y.b) << "pop " << pops;
+    ++pops;
+  }
+  EXPECT_TRUE(queue.empty());
+  EXPECT_EQ(pops, scanned.size() + pushes);
+  EXPECT_GT(pushes, 100u);
+}
+
+TEST(EdgeQueue, PopsInTheOrderOfOneHeap) {
+  for (std::uint32_t seed = 1; seed <= 5; ++seed) {
+    expect_pops_as_one_heap<Longer>(seed);
+    expect_pops_as_one_heap<Shorter>(seed);
+  }
 }
 
 }  // namespace
