@@ -32,11 +32,9 @@ bool closest_point_on_curve(const CurvePrimitive& curve, const Vec3& p, Vec3* ou
 
 namespace {
 
-/// Regions of the boundary faces around v, ascending, without repeats.
-void vertex_regions(const TetMesh& mesh, index_t v, std::vector<index_t>& regions) {
-  thread_local std::vector<index_t> ball;
+/// Regions of the boundary faces of v's ball, ascending, without repeats.
+void vertex_regions(const TetMesh& mesh, index_t v, const std::vector<index_t>& ball, std::vector<index_t>& regions) {
   regions.clear();
-  mesh.vertex_ball(v, ball);
   for (index_t t : ball) {
     const Tet& T = mesh.tet(t);
     for (int f = 0; f < 4; ++f)
@@ -72,13 +70,22 @@ void add_discrete_regions(const TetMesh& mesh, BoundaryGeometry& geometry) {
 }
 
 VertexConstraint vertex_constraint(const TetMesh& mesh, const BoundaryGeometry& geometry, index_t v) {
+  const VertexClass cls = mesh.vertex_class(v);
+  thread_local std::vector<index_t> ball;
+  ball.clear();
+  if (cls != VertexClass::Inner && cls != VertexClass::Corner) mesh.vertex_ball(v, ball);
+  return vertex_constraint(mesh, geometry, v, ball);
+}
+
+VertexConstraint vertex_constraint(const TetMesh& mesh, const BoundaryGeometry& geometry, index_t v,
+                                   const std::vector<index_t>& ball) {
   VertexConstraint c;
   const VertexClass cls = mesh.vertex_class(v);
   if (cls == VertexClass::Inner) return c;
   c.kind = VertexConstraint::Fixed;
   if (cls == VertexClass::Corner) return c;
   thread_local std::vector<index_t> regions;
-  vertex_regions(mesh, v, regions);
+  vertex_regions(mesh, v, ball, regions);
   if (regions.size() == 1) {
     c.region_a = regions[0];
     c.surface = geometry.region(regions[0]);

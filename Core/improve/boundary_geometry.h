@@ -71,6 +71,11 @@ struct VertexConstraint {
 /// line or circle curve between them is known); Corner or more -> Fixed.
 /// Among several curves between the same two regions the one closest to v.
 VertexConstraint vertex_constraint(const TetMesh& mesh, const BoundaryGeometry& geometry, index_t v);
+/// The same from v's ball (TetMesh::vertex_ball), for a caller that has it:
+/// no walk, and no use of the mesh's shared walk marks (so callers may run
+/// in parallel).
+VertexConstraint vertex_constraint(const TetMesh& mesh, const BoundaryGeometry& geometry, index_t v,
+                                   const std::vector<index_t>& ball);
 
 /// Closest point to p that satisfies c: the surface's (or kept triangles')
 /// closest point; on a

@@ -155,11 +155,11 @@ int sign(double x) { return (x > 0) - (x < 0); }
 
 /// The third vertex of the other boundary face on edge (p, q) than the one
 /// with apex v, when that face lies in `region`; -1 otherwise. t: a tet on
-/// the edge.
+/// the edge (so nothing walks the mesh's shared marks). ring, others: scratch.
 index_t opposite_vertex(const TetMesh& mesh, index_t p, index_t q, index_t v, index_t region, index_t t,
-                        std::vector<index_t>& ring) {
+                        std::vector<index_t>& ring, std::vector<index_t>& others) {
   bool on_boundary = false;
-  if (!mesh.edge_ring(p, q, ring, &on_boundary, t) || !on_boundary) return kInvalidIndex;
+  if (!mesh.edge_ring_with_vertices(p, q, ring, others, &on_boundary, t) || !on_boundary) return kInvalidIndex;
   for (const index_t r : {ring.front(), ring.back()}) {
     const Tet& T = mesh.tet(r);
     for (int f = 0; f < 4; ++f) {
@@ -192,49 +192,86 @@ struct SurfaceStencils {
 
 SurfaceStencils surface_stencils(const TetMesh& mesh, const BoundaryGeometry& geometry,
                                  const BoundarySmoothOptions& options) {
+  const bool use_mask = !options.vertex_mask.empty();
+  std::vector<index_t> candidates;
+  for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
+    if (!mesh.vertex_alive(v) || mesh.vertex_class(v) != VertexClass::Surface) continue;
+    if (use_mask && (static_cast<std::size_t>(v) >= options.vertex_mask.size() || !options.vertex_mask[v])) continue;
+    candidates.push_back(v);
+  }
+  // In parallel over fixed chunks of the candidates, each into its own
+  // part, joined in order: the same stencils whatever the number of threads
+  // (x3 benchmark: 0.13 s per call in one thread).
+  constexpr std::size_t kChunk = 256;
+  const long chunks = static_cast<long>((candidates.size() + kChunk - 1) / kChunk);
+  std::vector<SurfaceStencils> parts(static_cast<std::size_t>(chunks));
+  std::vector<TetMesh::WalkMarks> marks(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+#pragma omp parallel if (candidates.size() >= 2 * kChunk)
+  {
+    std::vector<index_t> ball, link, edge_tets, edge_others;
+    std::vector<std::array<index_t, 3>> ring;
+    TetMesh::WalkMarks& my_marks = marks[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(dynamic, 1)
+    for (long chunk = 0; chunk < chunks; ++chunk) {
+      SurfaceStencils& out = parts[static_cast<std::size_t>(chunk)];
+      out.ball_start.push_back(0);
+      out.ring_start.push_back(0);
+      out.link_start.push_back(0);
+      const std::size_t end = std::min(candidates.size(), static_cast<std::size_t>(chunk + 1) * kChunk);
+      for (std::size_t k = static_cast<std::size_t>(chunk) * kChunk; k < end; ++k) {
+        const index_t v = candidates[k];
+        mesh.vertex_ball(v, ball, my_marks);
+        const VertexConstraint c = vertex_constraint(mesh, geometry, v, ball);
+        if (c.kind != VertexConstraint::Surface && c.kind != VertexConstraint::Discrete) continue;
+        // The 1-ring of boundary triangles: boundary faces of the ball.
+        ring.clear();
+        link.clear();
+        for (index_t t : ball) {
+          const Tet& T = mesh.tet(t);
+          for (int f = 0; f < 4; ++f) {
+            if (T[f] == v || !mesh.is_boundary_face(t, f)) continue;
+            std::array<index_t, 3> face{T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]};
+            while (face[0] != v) std::rotate(face.begin(), face.begin() + 1, face.end());
+            ring.push_back({face[1], face[2], t});
+            for (int i = 1; i < 3; ++i)
+              if (std::find(link.begin(), link.end(), face[i]) == link.end()) link.push_back(face[i]);
+          }
+        }
+        if (ring.size() < 3) continue;
+        out.vertex.push_back(v);
+        out.constraint.push_back(c);
+        out.ball.insert(out.ball.end(), ball.begin(), ball.end());
+        out.ball_start.push_back(out.ball.size());
+        out.link.insert(out.link.end(), link.begin(), link.end());
+        out.link_start.push_back(out.link.size());
+        for (const auto& r : ring) {
+          out.ring.push_back(r);
+          std::array<int, 2> local{};
+          for (int i = 0; i < 2; ++i)
+            local[i] = static_cast<int>(std::find(link.begin(), link.end(), r[i]) - link.begin());
+          out.ring_local.push_back(local);
+          out.opposite.push_back(opposite_vertex(mesh, r[0], r[1], v, c.region_a, r[2], edge_tets, edge_others));
+        }
+        out.ring_start.push_back(out.ring.size());
+      }
+    }
+  }
   SurfaceStencils out;
   out.ball_start.push_back(0);
   out.ring_start.push_back(0);
   out.link_start.push_back(0);
-  const bool use_mask = !options.vertex_mask.empty();
-  std::vector<index_t> ball, link, edge_tets;
-  std::vector<std::array<index_t, 3>> ring;
-  for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
-    if (!mesh.vertex_alive(v) || mesh.vertex_class(v) != VertexClass::Surface) continue;
-    if (use_mask && (static_cast<std::size_t>(v) >= options.vertex_mask.size() || !options.vertex_mask[v])) continue;
-    const VertexConstraint c = vertex_constraint(mesh, geometry, v);
-    if (c.kind != VertexConstraint::Surface && c.kind != VertexConstraint::Discrete) continue;
-    // The 1-ring of boundary triangles: boundary faces of the ball.
-    mesh.vertex_ball(v, ball);
-    ring.clear();
-    link.clear();
-    for (index_t t : ball) {
-      const Tet& T = mesh.tet(t);
-      for (int f = 0; f < 4; ++f) {
-        if (T[f] == v || !mesh.is_boundary_face(t, f)) continue;
-        std::array<index_t, 3> face{T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]};
-        while (face[0] != v) std::rotate(face.begin(), face.begin() + 1, face.end());
-        ring.push_back({face[1], face[2], t});
-        for (int i = 1; i < 3; ++i)
-          if (std::find(link.begin(), link.end(), face[i]) == link.end()) link.push_back(face[i]);
-      }
-    }
-    if (ring.size() < 3) continue;
-    out.vertex.push_back(v);
-    out.constraint.push_back(c);
-    out.ball.insert(out.ball.end(), ball.begin(), ball.end());
-    out.ball_start.push_back(out.ball.size());
-    out.link.insert(out.link.end(), link.begin(), link.end());
-    out.link_start.push_back(out.link.size());
-    for (const auto& r : ring) {
-      out.ring.push_back(r);
-      std::array<int, 2> local{};
-      for (int i = 0; i < 2; ++i)
-        local[i] = static_cast<int>(std::find(link.begin(), link.end(), r[i]) - link.begin());
-      out.ring_local.push_back(local);
-      out.opposite.push_back(opposite_vertex(mesh, r[0], r[1], v, c.region_a, r[2], edge_tets));
-    }
-    out.ring_start.push_back(out.ring.size());
+  for (const SurfaceStencils& part : parts) {
+    const std::size_t ball0 = out.ball.size(), ring0 = out.ring.size(), link0 = out.link.size();
+    out.vertex.insert(out.vertex.end(), part.vertex.begin(), part.vertex.end());
+    out.constraint.insert(out.constraint.end(), part.constraint.begin(), part.constraint.end());
+    out.ball.insert(out.ball.end(), part.ball.begin(), part.ball.end());
+    out.link.insert(out.link.end(), part.link.begin(), part.link.end());
+    out.opposite.insert(out.opposite.end(), part.opposite.begin(), part.opposite.end());
+    out.ring.insert(out.ring.end(), part.ring.begin(), part.ring.end());
+    out.ring_local.insert(out.ring_local.end(), part.ring_local.begin(), part.ring_local.end());
+    for (std::size_t i = 1; i < part.ball_start.size(); ++i) out.ball_start.push_back(ball0 + part.ball_start[i]);
+    for (std::size_t i = 1; i < part.ring_start.size(); ++i) out.ring_start.push_back(ring0 + part.ring_start[i]);
+    for (std::size_t i = 1; i < part.link_start.size(); ++i) out.link_start.push_back(link0 + part.link_start[i]);
   }
   return out;
 }
