@@ -35,4 +35,17 @@ bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, i
   return true;
 }
 
+bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,
+                        double old_min, double floor, std::vector<double>& stretch) {
+  stretch.resize(ball.size());
+  for (std::size_t k = 0; k < ball.size(); ++k) {
+    const index_t t = ball[k];
+    const double q = stretch_with(mesh, t, v, p);
+    if (q < old_min) return false;
+    if (q < floor && stretch_with(mesh, t, kInvalidIndex, p) >= floor) return false;
+    stretch[k] = q;
+  }
+  return true;
+}
+
 }  // namespace femorph

@@ -51,6 +51,31 @@ double move_with_step_halving(TetMesh& mesh, const std::vector<index_t>& ball, i
   return 0;
 }
 
+/// move_keeps_quality that also writes the ball's stretches with v at p
+/// (ball order) into `stretch` when it returns true.
+bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,
+                        double old_min, double floor, std::vector<double>& stretch);
+
+/// The step-size rule with the quality guard, given the ball's minimum
+/// stretch at v's position (`old_min`, e.g. from stretches the caller keeps
+/// per tet) and no last test; when v moves, `stretch` holds the ball's new
+/// stretches (ball order) for the caller to keep. The same steps as the
+/// rule above with quality_guard.
+template <class Candidate>
+double move_with_step_halving(TetMesh& mesh, const std::vector<index_t>& ball, index_t v, int max_halvings,
+                              double floor, double old_min, Candidate&& candidate, std::vector<double>& stretch,
+                              std::size_t* halvings) {
+  double alpha = 1;
+  for (int h = 0; h <= max_halvings; ++h, alpha *= 0.5) {
+    if (h > 0 && halvings) ++*halvings;
+    Vec3 p;
+    if (!candidate(alpha, &p)) continue;
+    if (!move_keeps_quality(mesh, ball, v, p, old_min, floor, stretch)) continue;
+    if (mesh.move_vertex_in_ball(v, p, ball) == OpStatus::Ok) return alpha;
+  }
+  return 0;
+}
+
 /// The same without a last test.
 template <class Candidate>
 double move_with_step_halving(TetMesh& mesh, const std::vector<index_t>& ball, index_t v, int max_halvings,

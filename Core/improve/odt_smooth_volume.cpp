@@ -144,6 +144,12 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
   // barycentre. Computed once per sweep instead of once per ball visit
   // (four times per tet), and read-only while the colours move in parallel.
   std::vector<std::uint8_t> circumcentre(static_cast<std::size_t>(mesh.tet_slots()), 0), needed(circumcentre.size(), 0);
+  // With the quality guard, per tet of the active balls: its stretch, found
+  // at the sweep's start and kept current as vertices move (a move writes
+  // the stretches its guard found), so a ball's minimum is read, not
+  // computed (the same values as computing it).
+  const bool keep_stretch = options.quality_guard;
+  std::vector<double> stretch_of_tet(keep_stretch ? circumcentre.size() : 0, 0.0);
   std::vector<index_t> needed_list;
 
   for (int sweep = 0; sweep < options.iterations; ++sweep) {
@@ -175,6 +181,10 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
       bool boundary = false;
       for (const index_t w : mesh.tet(t)) boundary = boundary || mesh.on_boundary(w);
       circumcentre[t] = !boundary && locally_delaunay(mesh, t);
+      if (keep_stretch) {
+        const Tet& T = mesh.tet(t);
+        stretch_of_tet[t] = tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3]));
+      }
     }
     for (const index_t t : needed_list) needed[t] = 0;
 
@@ -185,6 +195,7 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
 #pragma omp parallel if (last - first >= 2048)
       {
         std::vector<index_t> ball;
+        std::vector<double> new_stretch;
 #pragma omp for schedule(dynamic, 256) reduction(max : max_step) reduction(+ : moved, refused, halvings)
         for (long j = first; j < last; ++j) {
           if (!active[j]) continue;
@@ -235,13 +246,23 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
           // Fig. 2.33 step-size rule: alpha = 1, halved while the move inverts
           // a tet (or, with the guard, lowers the ball's minimum stretch).
           std::size_t h = 0;
-          const double alpha = move_with_step_halving(
-              mesh, ball, v, options.max_halvings, options.quality_guard, options.quality_floor,
-              [&](double a, Vec3* p) {
-                *p = x + a * step;
-                return true;
-              },
-              &h);
+          const auto candidate = [&](double a, Vec3* p) {
+            *p = x + a * step;
+            return true;
+          };
+          double alpha;
+          if (keep_stretch) {
+            double old_min = std::numeric_limits<double>::infinity();
+            for (const index_t t : ball) old_min = std::min(old_min, stretch_of_tet[t]);
+            alpha = move_with_step_halving(mesh, ball, v, options.max_halvings, options.quality_floor, old_min,
+                                           candidate, new_stretch, &h);
+            // Vertices of one colour share no tet: these tets are this vertex's.
+            if (alpha > 0)
+              for (std::size_t k = 0; k < ball.size(); ++k) stretch_of_tet[ball[k]] = new_stretch[k];
+          } else {
+            alpha = move_with_step_halving(mesh, ball, v, options.max_halvings, false, options.quality_floor,
+                                           candidate, &h);
+          }
           halvings += h;
           if (alpha > 0) {
             ++moved;
