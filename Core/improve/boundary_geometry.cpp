@@ -71,9 +71,12 @@ void add_discrete_regions(const TetMesh& mesh, BoundaryGeometry& geometry) {
 
 VertexConstraint vertex_constraint(const TetMesh& mesh, const BoundaryGeometry& geometry, index_t v) {
   const VertexClass cls = mesh.vertex_class(v);
+  // Per-thread walk marks, not the mesh's shared ones: callers may run in
+  // parallel (the density control's collapse evaluation projects).
   thread_local std::vector<index_t> ball;
+  thread_local TetMesh::WalkMarks marks;
   ball.clear();
-  if (cls != VertexClass::Inner && cls != VertexClass::Corner) mesh.vertex_ball(v, ball);
+  if (cls != VertexClass::Inner && cls != VertexClass::Corner) mesh.vertex_ball(v, ball, marks);
   return vertex_constraint(mesh, geometry, v, ball);
 }
 

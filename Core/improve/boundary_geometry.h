@@ -70,6 +70,8 @@ struct VertexConstraint {
 /// no fit but kept triangles, else Fixed); two regions -> Curve (Fixed when either region has no fit and no
 /// line or circle curve between them is known); Corner or more -> Fixed.
 /// Among several curves between the same two regions the one closest to v.
+/// Safe to call from several threads at once (it walks v's ball with
+/// per-thread marks).
 VertexConstraint vertex_constraint(const TetMesh& mesh, const BoundaryGeometry& geometry, index_t v);
 /// The same from v's ball (TetMesh::vertex_ball), for a caller that has it:
 /// no walk, and no use of the mesh's shared walk marks (so callers may run

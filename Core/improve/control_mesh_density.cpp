@@ -538,7 +538,7 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
 #pragma omp parallel for schedule(dynamic, 8) if (count >= 32)
     for (long i = 0; i < count; ++i) {
       const int id = omp_get_thread_num();
-      evaluate_collapse(mesh, grid, options, false, marks[static_cast<std::size_t>(id)],
+      evaluate_collapse(mesh, grid, options, options.project_in_parallel, marks[static_cast<std::size_t>(id)],
                         seen[static_cast<std::size_t>(id)], stamps[static_cast<std::size_t>(id)],
                         link_stamps[static_cast<std::size_t>(id)], batch[static_cast<std::size_t>(i)]);
     }

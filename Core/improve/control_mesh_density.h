@@ -70,6 +70,11 @@ struct DensityControlOptions {
   /// result keeps every tet valid and above the stretch floor. Empty: none
   /// (right for planar regions).
   std::function<Vec3(index_t vertex, const Vec3& position)> project;
+  /// `project` may be called from several threads at once (read only on
+  /// the mesh, no shared scratch): the collapse pass then projects while it
+  /// evaluates its candidates in parallel, instead of evaluating a boundary
+  /// candidate again, serially, when it is committed.
+  bool project_in_parallel = false;
   /// Extra test of a collapse of a boundary vertex (keep, remove; keep
   /// placed at x; the balls of both ends): false refuses that position.
   /// Phased ODT uses it for the chord error (2.6.4). Empty: none.

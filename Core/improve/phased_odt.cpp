@@ -320,6 +320,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         dco.max_iterations = 1;
         dco.measure_error = false;
         dco.project = project;
+        dco.project_in_parallel = true;  // vertex_constraint and the projections are thread safe
         // Beyond the thesis: a boundary collapse may not lengthen a chord
         // past its region's acceptable error (2.6.4).
         if (options.accuracy_control && !target.acceptable_error.empty())
