@@ -13,6 +13,9 @@
 
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
+#include <atomic>
 #include <cmath>
 #include <algorithm>
 #include <cstdio>
@@ -536,6 +539,48 @@ TEST(MeshDensity, CollapseQueueTakesOnlyCurrentEntriesWithoutLookup) {
     EXPECT_EQ(plain.out.points, run.out.points);
     EXPECT_EQ(plain.out.tets, run.out.tets);
   }
+}
+
+// A projection callback that may run in parallel is called in the collapse
+// pass's parallel evaluation instead of in a second, serial evaluation at
+// the commit: the same mesh either way (a cube stretched x3 whose new
+// boundary vertices are pushed off their planes, so that boundary collapses
+// move their kept vertex and are projected).
+TEST(MeshDensity, ProjectionInParallelGivesTheSameMesh) {
+  const double factor = 3.0;
+  const Vec3 box(factor, 1, 1);
+  const TestMesh ref = make_cube_mesh(8, 0.1, 11);
+  const std::vector<double> rho = vertex_density(ref.points, ref.tets);
+  std::vector<Vec3> deformed = ref.points;
+  for (Vec3& p : deformed) p.x() *= factor;
+  DensityGrid grid;
+  ASSERT_TRUE(grid.build(deformed, ref.tets, rho, 0.5 * mean_edge_length(ref.points, ref.tets)));
+  CompactMesh meshes[2];
+  DensityControlStats stats[2];
+  std::atomic<int> off_main_thread[2] = {0, 0};
+  for (const bool parallel : {false, true}) {
+    DensityControlOptions options;
+    options.project = [&](index_t, const Vec3& p) {
+      if (omp_get_thread_num() > 0) ++off_main_thread[parallel];
+      return Vec3(p + 0.01 * (p - 0.5 * box).normalized());
+    };
+    options.project_in_parallel = parallel;
+    BuildOptions build;
+    build.face_regions = ref.face_regions;
+    TetMesh mesh;
+    ASSERT_TRUE(mesh.build(deformed, ref.tets, build).ok);
+    stats[parallel] = testing::with_threads(2, [&] { return control_mesh_density(mesh, grid, options); });
+    EXPECT_TRUE(mesh.check_consistency().ok);
+    meshes[parallel] = mesh.compact();
+  }
+  std::printf("%zu collapses, %zu projections, %d callback calls off the main thread\n", stats[1].collapses,
+              stats[1].projections, off_main_thread[1].load());
+  EXPECT_GT(stats[1].collapses, 100u);
+  EXPECT_EQ(off_main_thread[0], 0);
+  EXPECT_GT(off_main_thread[1], 0);  // projected in the parallel evaluation
+  EXPECT_EQ(stats[0].projections, stats[1].projections);
+  EXPECT_EQ(meshes[0].points, meshes[1].points);
+  EXPECT_EQ(meshes[0].tets, meshes[1].tets);
 }
 
 // EdgeQueue (the scan's edges sorted once plus a heap for later pushes) must
