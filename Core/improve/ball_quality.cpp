@@ -17,6 +17,15 @@ double stretch_with(const TetMesh& mesh, index_t t, index_t v, const Vec3& p) {
   return tet_stretch(*x[0], *x[1], *x[2], *x[3]);
 }
 
+/// move_keeps_quality's test of one tet t of the ball; *q: its stretch with
+/// v at p.
+bool tet_keeps_quality(const TetMesh& mesh, index_t t, index_t v, const Vec3& p, double old_min, double floor,
+                       double* q) {
+  *q = stretch_with(mesh, t, v, p);
+  if (*q < old_min) return false;
+  return !(*q < floor && stretch_with(mesh, t, kInvalidIndex, p) >= floor);
+}
+
 }  // namespace
 
 double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p) {
@@ -27,24 +36,17 @@ double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, i
 
 bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,
                         double old_min, double floor) {
-  for (const index_t t : ball) {
-    const double q = stretch_with(mesh, t, v, p);
-    if (q < old_min) return false;
-    if (q < floor && stretch_with(mesh, t, kInvalidIndex, p) >= floor) return false;
-  }
+  double q;
+  for (const index_t t : ball)
+    if (!tet_keeps_quality(mesh, t, v, p, old_min, floor, &q)) return false;
   return true;
 }
 
 bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,
                         double old_min, double floor, std::vector<double>& stretch) {
   stretch.resize(ball.size());
-  for (std::size_t k = 0; k < ball.size(); ++k) {
-    const index_t t = ball[k];
-    const double q = stretch_with(mesh, t, v, p);
-    if (q < old_min) return false;
-    if (q < floor && stretch_with(mesh, t, kInvalidIndex, p) >= floor) return false;
-    stretch[k] = q;
-  }
+  for (std::size_t k = 0; k < ball.size(); ++k)
+    if (!tet_keeps_quality(mesh, ball[k], v, p, old_min, floor, &stretch[k])) return false;
   return true;
 }
 

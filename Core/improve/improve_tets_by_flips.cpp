@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <deque>
 #include <limits>
+#include <utility>
 
 #include <omp.h>
 
@@ -48,7 +49,7 @@ class FlipEvaluator {
     double old_min = std::numeric_limits<double>::infinity();
     for (index_t t : old) {
       if (!allowed(mesh_.tet(t))) return kNone;
-      old_min = std::min(old_min, stretch(t));
+      old_min = std::min(old_min, known_stretch(t));
     }
     // Condition 3: the minimum quality rises. Orientation is checked exactly.
     double new_min = std::numeric_limits<double>::infinity();
@@ -91,6 +92,7 @@ class FlipEvaluator {
   /// Every admissible flip around tet t, best first.
   void candidates(index_t t, std::vector<Candidate>& out) {
     out.clear();
+    known_.clear();
     const Tet T = mesh_.tet(t);
     // Flip 2-3 of each interior face: (a, b, c) | d, e -> three tets on (d, e).
     for (int f = 0; f < 4; ++f) {
@@ -166,8 +168,19 @@ class FlipEvaluator {
     }
   }
 
+  /// stretch(t), each tet computed once per candidates() call: t and its
+  /// neighbours are in most of the ten flips it tries.
+  double known_stretch(index_t t) const {
+    for (const auto& [u, q] : known_)
+      if (u == t) return q;
+    const double q = stretch(t);
+    known_.emplace_back(t, q);
+    return q;
+  }
+
   TetMesh& mesh_;
   const FlipImproveOptions& options_;
+  mutable std::vector<std::pair<index_t, double>> known_;
   std::vector<index_t> ring_, old_;
   std::vector<Tet> fresh_;
   mutable std::vector<index_t> points_;
