@@ -377,6 +377,24 @@ TEST(MeshDensity, SplitsAndCollapsesDoNotDependOnThreadCount) {
   }
 }
 
+/// A jittered Kuhn cube (8 cells) stretched by `factor` along x, and the
+/// target field that asks for its original densities there.
+struct StretchedField {
+  TestMesh ref;
+  std::vector<Vec3> deformed;
+  DensityGrid grid;
+};
+
+StretchedField stretched_field(double factor) {
+  StretchedField out;
+  out.ref = make_cube_mesh(8, 0.1, 11);
+  const std::vector<double> rho = vertex_density(out.ref.points, out.ref.tets);
+  out.deformed = out.ref.points;
+  for (Vec3& p : out.deformed) p.x() *= factor;
+  out.grid.build(out.deformed, out.ref.tets, rho, 0.5 * mean_edge_length(out.ref.points, out.ref.tets));
+  return out;
+}
+
 TEST(MeshDensity, CollapsePassTakesTheSplitPassScan) {
   // control_mesh_density hands the collapse pass the short edges found by
   // the split pass's scan and around its new vertices; the public passes
@@ -384,12 +402,11 @@ TEST(MeshDensity, CollapsePassTakesTheSplitPassScan) {
   // projections move new boundary vertices.
   const double factor = 3.0;
   const Vec3 box(factor, 1, 1);
-  const TestMesh ref = make_cube_mesh(8, 0.1, 11);
-  const std::vector<double> rho = vertex_density(ref.points, ref.tets);
-  std::vector<Vec3> deformed = ref.points;
-  for (Vec3& p : deformed) p.x() *= factor;
-  DensityGrid grid;
-  ASSERT_TRUE(grid.build(deformed, ref.tets, rho, 0.5 * mean_edge_length(ref.points, ref.tets)));
+  const StretchedField field = stretched_field(factor);
+  const TestMesh& ref = field.ref;
+  const std::vector<Vec3>& deformed = field.deformed;
+  const DensityGrid& grid = field.grid;
+  ASSERT_FALSE(grid.empty());
   for (const bool bulge : {false, true}) {
     DensityControlOptions options;
     options.max_iterations = 1;
@@ -549,19 +566,18 @@ TEST(MeshDensity, CollapseQueueTakesOnlyCurrentEntriesWithoutLookup) {
 TEST(MeshDensity, ProjectionInParallelGivesTheSameMesh) {
   const double factor = 3.0;
   const Vec3 box(factor, 1, 1);
-  const TestMesh ref = make_cube_mesh(8, 0.1, 11);
-  const std::vector<double> rho = vertex_density(ref.points, ref.tets);
-  std::vector<Vec3> deformed = ref.points;
-  for (Vec3& p : deformed) p.x() *= factor;
-  DensityGrid grid;
-  ASSERT_TRUE(grid.build(deformed, ref.tets, rho, 0.5 * mean_edge_length(ref.points, ref.tets)));
+  const StretchedField field = stretched_field(factor);
+  const TestMesh& ref = field.ref;
+  const std::vector<Vec3>& deformed = field.deformed;
+  const DensityGrid& grid = field.grid;
+  ASSERT_FALSE(grid.empty());
   CompactMesh meshes[2];
   DensityControlStats stats[2];
-  std::atomic<int> off_main_thread[2] = {0, 0};
+  std::atomic<int> in_parallel[2] = {0, 0};
   for (const bool parallel : {false, true}) {
     DensityControlOptions options;
     options.project = [&](index_t, const Vec3& p) {
-      if (omp_get_thread_num() > 0) ++off_main_thread[parallel];
+      if (omp_in_parallel()) ++in_parallel[parallel];
       return Vec3(p + 0.01 * (p - 0.5 * box).normalized());
     };
     options.project_in_parallel = parallel;
@@ -573,11 +589,11 @@ TEST(MeshDensity, ProjectionInParallelGivesTheSameMesh) {
     EXPECT_TRUE(mesh.check_consistency().ok);
     meshes[parallel] = mesh.compact();
   }
-  std::printf("%zu collapses, %zu projections, %d callback calls off the main thread\n", stats[1].collapses,
-              stats[1].projections, off_main_thread[1].load());
+  std::printf("%zu collapses, %zu projections, %d callback calls in a parallel region\n", stats[1].collapses,
+              stats[1].projections, in_parallel[1].load());
   EXPECT_GT(stats[1].collapses, 100u);
-  EXPECT_EQ(off_main_thread[0], 0);
-  EXPECT_GT(off_main_thread[1], 0);  // projected in the parallel evaluation
+  EXPECT_EQ(in_parallel[0], 0);
+  EXPECT_GT(in_parallel[1], 0);  // projected in the parallel evaluation
   EXPECT_EQ(stats[0].projections, stats[1].projections);
   EXPECT_EQ(meshes[0].points, meshes[1].points);
   EXPECT_EQ(meshes[0].tets, meshes[1].tets);
