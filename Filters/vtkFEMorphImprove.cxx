@@ -1,5 +1,6 @@
 #include "vtkFEMorphImprove.h"
 
+#include "vtkFEMorphHeapReuse.h"
 #include "vtkFEMorphMeshConversion.h"
 #include "vtkFEMorphSegmentationArrays.h"
 
@@ -33,6 +34,7 @@
 #include <exception>
 #include <limits>
 #include <new>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -254,6 +256,10 @@ int vtkFEMorphImprove::RequestData(
   }
 
   const auto start = Clock::now();
+  // Freed memory is reused during the run (vtkFEMorphHeapReuse.h), up to
+  // the output, whose arrays outlive the filter.
+  std::optional<vtkFEMorphHeapReuse> heapReuse;
+  heapReuse.emplace();
   double segmentationSeconds = 0;
   bool aborted = false;
   try
@@ -464,6 +470,7 @@ int vtkFEMorphImprove::RequestData(
 
     this->SetProgressText("writing the output");
     const femorph::CompactMesh compact = mesh.compact();
+    heapReuse.reset();
     vtkFEMorphMeshConversion::FromCompactMesh(compact, working, output);
 
     // Quality arrays.
