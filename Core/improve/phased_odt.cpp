@@ -356,6 +356,13 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         t = lap(Step::Accuracy, t);
       }
 
+      // Fig. 2.34: the loop ends when no density or accuracy operation is
+      // left (and, beyond the thesis, when they stall or are few:
+      // min_operation_fraction).
+      const bool last_loop = operations == 0 || operations >= last_operations ||
+                             static_cast<double>(operations) <
+                                 options.min_operation_fraction * static_cast<double>(mesh.live_tets());
+
       // (A) ODT smoothing of this phase's elements (2.6.5), then its flips.
       const std::vector<std::uint8_t> smooth_mask = movable_vertices(mesh, options);
       if (phase < 2) {
@@ -380,10 +387,14 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         oso.iterations = 1;  // the finishing step sweeps odt_iterations times
         // Beyond the thesis: inside the loop only the vertices of the tets
         // below 0.5 (and their neighbours through those tets) are smoothed;
-        // the finishing step sweeps all of them.
-        oso.vertex_mask = vertices_of_poor_tets(mesh, smooth_mask, 0.5);
-        stats.moved_vertices += odt_smooth_volume(mesh, oso).moved;
-        t = lap(Step::Smoothing, t);
+        // the finishing step sweeps all of them, right after the last loop,
+        // which therefore leaves them to it (x3 benchmark: 0.3 s less, min
+        // stretch 0.329 -> 0.331, at x1.6 0.325 -> 0.350).
+        if (!last_loop) {
+          oso.vertex_mask = vertices_of_poor_tets(mesh, smooth_mask, 0.5);
+          stats.moved_vertices += odt_smooth_volume(mesh, oso).moved;
+          t = lap(Step::Smoothing, t);
+        }
         if (options.flips) {
           FlipImproveOptions fo;
           fo.vertex_mask = smooth_mask;
@@ -391,13 +402,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
           t = lap(Step::Flips, t);
         }
       }
-      // Fig. 2.34: the loop ends when no density or accuracy operation is
-      // left (and, beyond the thesis, when they stall or are few:
-      // min_operation_fraction).
-      if (operations == 0 || operations >= last_operations ||
-          static_cast<double>(operations) <
-              options.min_operation_fraction * static_cast<double>(mesh.live_tets()))
-        break;
+      if (last_loop) break;
       last_operations = operations;
     }
     if (phase == 2 && !stats.aborted && report(0.95, kPhaseNames[2])) {
