@@ -26,54 +26,49 @@ double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, i
 bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,
                         double old_min, double floor);
 
+/// move_keeps_quality that also writes the ball's stretches with v at p
+/// (ball order) into `stretch` when it returns true.
+bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,
+                        double old_min, double floor, std::vector<double>& stretch);
+
 /// The step-size rule of the ODT smoothers (Fig. 2.33; Eqs. 2.31, 2.34):
 /// alpha = 1, halved up to `max_halvings` times. candidate(alpha, &p) gives
 /// v's position for the step alpha (false: none for this alpha); the first
 /// one that passes the quality guard (when `quality_guard`, with
-/// move_keeps_quality(.., floor)), then accept(p) (a costlier test, asked
+/// move_keeps_quality(.., old_min, floor), `old_min` being the ball's
+/// minimum stretch at v's position), then accept(p) (a costlier test, asked
 /// last), and keeps every tet of the ball positive
-/// (TetMesh::move_vertex_in_ball, exact) is taken. `ball` is v's whole ball. Returns the
-/// accepted alpha, 0 when v stayed; *halvings counts the halvings tried.
+/// (TetMesh::move_vertex_in_ball, exact) is taken. `ball` is v's whole
+/// ball. With `stretch` and the guard, the ball's new stretches (ball
+/// order) are left there when v moves, for a caller that keeps stretches
+/// per tet. Returns the accepted alpha, 0 when v stayed; *halvings counts
+/// the halvings tried.
 template <class Candidate, class Accept>
 double move_with_step_halving(TetMesh& mesh, const std::vector<index_t>& ball, index_t v, int max_halvings,
-                              bool quality_guard, double floor, Candidate&& candidate, Accept&& accept,
-                              std::size_t* halvings) {
-  const double old_min = quality_guard ? ball_min_stretch(mesh, ball, v, mesh.point(v)) : 0;
+                              bool quality_guard, double floor, double old_min, Candidate&& candidate,
+                              Accept&& accept, std::vector<double>* stretch, std::size_t* halvings) {
   double alpha = 1;
   for (int h = 0; h <= max_halvings; ++h, alpha *= 0.5) {
     if (h > 0 && halvings) ++*halvings;
     Vec3 p;
     if (!candidate(alpha, &p)) continue;
-    if (quality_guard && !move_keeps_quality(mesh, ball, v, p, old_min, floor)) continue;
+    if (quality_guard && !(stretch ? move_keeps_quality(mesh, ball, v, p, old_min, floor, *stretch)
+                                   : move_keeps_quality(mesh, ball, v, p, old_min, floor)))
+      continue;
     if (!accept(static_cast<const Vec3&>(p))) continue;
     if (mesh.move_vertex_in_ball(v, p, ball) == OpStatus::Ok) return alpha;
   }
   return 0;
 }
 
-/// move_keeps_quality that also writes the ball's stretches with v at p
-/// (ball order) into `stretch` when it returns true.
-bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,
-                        double old_min, double floor, std::vector<double>& stretch);
-
-/// The step-size rule with the quality guard, given the ball's minimum
-/// stretch at v's position (`old_min`, e.g. from stretches the caller keeps
-/// per tet) and no last test; when v moves, `stretch` holds the ball's new
-/// stretches (ball order) for the caller to keep. The same steps as the
-/// rule above with quality_guard.
-template <class Candidate>
+/// The same with the ball's minimum stretch found here.
+template <class Candidate, class Accept>
 double move_with_step_halving(TetMesh& mesh, const std::vector<index_t>& ball, index_t v, int max_halvings,
-                              double floor, double old_min, Candidate&& candidate, std::vector<double>& stretch,
+                              bool quality_guard, double floor, Candidate&& candidate, Accept&& accept,
                               std::size_t* halvings) {
-  double alpha = 1;
-  for (int h = 0; h <= max_halvings; ++h, alpha *= 0.5) {
-    if (h > 0 && halvings) ++*halvings;
-    Vec3 p;
-    if (!candidate(alpha, &p)) continue;
-    if (!move_keeps_quality(mesh, ball, v, p, old_min, floor, stretch)) continue;
-    if (mesh.move_vertex_in_ball(v, p, ball) == OpStatus::Ok) return alpha;
-  }
-  return 0;
+  const double old_min = quality_guard ? ball_min_stretch(mesh, ball, v, mesh.point(v)) : 0;
+  return move_with_step_halving(mesh, ball, v, max_halvings, quality_guard, floor, old_min,
+                                std::forward<Candidate>(candidate), std::forward<Accept>(accept), nullptr, halvings);
 }
 
 /// The same without a last test.

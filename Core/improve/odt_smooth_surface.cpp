@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -334,6 +335,7 @@ struct SurfaceScratch {
   std::vector<Vec2> opposite2;  // the vertex across each ring triangle's outer edge, mapped
   std::vector<std::uint8_t> has_opposite;
   std::vector<int> old_sign;
+  std::vector<double> new_stretch;  // the ball's stretches after a move
   Chart chart;
   SurfacePrimitive tangent_plane;
 };
@@ -347,6 +349,25 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
   std::vector<std::size_t> colour_start;
   const std::vector<std::size_t> order = colour_order(mesh, st, colour_start);
   std::vector<SurfaceScratch> scratch(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+  // The quality guard reads each ball's minimum stretch: the stretch of
+  // every tet of the balls is found once, in parallel, and kept as the
+  // moves change it (vertices of one colour share no tet), instead of once
+  // per vertex and sweep (as in odt_smooth_volume).
+  std::vector<double> stretch_of_tet;
+  std::atomic<std::size_t> cache_checked{0}, cache_disagreements{0};
+  if (options.quality_guard) {
+    const long slots = mesh.tet_slots();
+    std::vector<std::uint8_t> in_ball(static_cast<std::size_t>(slots), 0);
+    for (const index_t t : st.ball) in_ball[static_cast<std::size_t>(t)] = 1;
+    stretch_of_tet.assign(static_cast<std::size_t>(slots), 0.0);
+#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
+    for (long t = 0; t < slots; ++t)
+      if (in_ball[static_cast<std::size_t>(t)]) {
+        const Tet& T = mesh.tet(static_cast<index_t>(t));
+        stretch_of_tet[static_cast<std::size_t>(t)] =
+            tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3]));
+      }
+  }
 
   // One vertex: 1 moved (*step: its move over its mean edge length), 0
   // refused, -1 left (already there, or no chart).
@@ -438,9 +459,18 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
 
       // Step 3: map back, project onto the surface; alpha halved while the
       // move inverts a tet, folds a ring triangle or lowers the ball's quality.
+      double old_min = 0;
+      if (options.quality_guard) {
+        old_min = std::numeric_limits<double>::infinity();
+        for (const index_t t : ball) old_min = std::min(old_min, stretch_of_tet[static_cast<std::size_t>(t)]);
+        if (options.check_stretch_cache) {
+          ++cache_checked;
+          if (old_min != ball_min_stretch(mesh, ball, v, x)) ++cache_disagreements;
+        }
+      }
       const bool accepted =
           move_with_step_halving(
-              mesh, ball, v, options.max_halvings, options.quality_guard, options.quality_floor,
+              mesh, ball, v, options.max_halvings, options.quality_guard, options.quality_floor, old_min,
               [&](double alpha, Vec3* p) {
                 const Vec2 q2 = x2 + alpha * step;
                 if (!project_to_constraint(c, chart.unmap(q2), p)) return false;
@@ -454,8 +484,10 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
                 return !options.acceptable_error ||
                        chords_within_error(mesh, geometry, *options.acceptable_error, v, p, ball);
               },
-              halvings) > 0;
+              options.quality_guard ? &sc.new_stretch : nullptr, halvings) > 0;
       if (!accepted) return 0;
+      if (options.quality_guard)
+        for (std::size_t k = 0; k < ball.size(); ++k) stretch_of_tet[static_cast<std::size_t>(ball[k])] = sc.new_stretch[k];
       *step_out = (mesh.point(v) - x).norm() / len;
       return 1;
   };
@@ -481,6 +513,8 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
     report.refused += refused;
     report.halvings += halvings;
     report.last_max_step = max_step;
+    report.cache_checked = cache_checked;
+    report.cache_disagreements = cache_disagreements;
     if (max_step <= options.tolerance) {
       report.converged = true;
       break;

@@ -35,6 +35,10 @@ struct BoundarySmoothOptions {
   /// when given, a move may not take a boundary edge of a curved region
   /// beyond it (chords_within_error()). Null: not checked.
   const std::vector<double>* acceptable_error = nullptr;
+  /// For tests (odt_smooth_surface): each ball minimum the quality guard
+  /// reads from the stretches kept per tet is also computed from the mesh;
+  /// OdtSmoothReport counts both and the disagreements.
+  bool check_stretch_cache = false;
 };
 
 /// Moves each vertex whose constraint is VertexConstraint::Surface (one

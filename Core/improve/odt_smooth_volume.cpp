@@ -254,8 +254,9 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
           if (keep_stretch) {
             double old_min = std::numeric_limits<double>::infinity();
             for (const index_t t : ball) old_min = std::min(old_min, stretch_of_tet[t]);
-            alpha = move_with_step_halving(mesh, ball, v, options.max_halvings, options.quality_floor, old_min,
-                                           candidate, new_stretch, &h);
+            alpha = move_with_step_halving(
+                mesh, ball, v, options.max_halvings, true, options.quality_floor, old_min, candidate,
+                [](const Vec3&) { return true; }, &new_stretch, &h);
             // Vertices of one colour share no tet: these tets are this vertex's.
             if (alpha > 0)
               for (std::size_t k = 0; k < ball.size(); ++k) stretch_of_tet[ball[k]] = new_stretch[k];

@@ -54,6 +54,10 @@ struct OdtSmoothReport {
   std::size_t halvings = 0;     // step halvings, summed
   double last_max_step = 0;     // largest relative move of the last sweep
   bool converged = false;       // last_max_step <= tolerance
+  // With BoundarySmoothOptions::check_stretch_cache (tests): the ball
+  // minima read from the kept stretches, and those that differ from the
+  // mesh's.
+  std::size_t cache_checked = 0, cache_disagreements = 0;
 };
 
 /// Moves each free inner vertex toward the density-weighted mean of the

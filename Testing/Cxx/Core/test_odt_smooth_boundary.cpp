@@ -265,6 +265,38 @@ TEST(OdtSmoothBoundary, SurfaceSmoothingDoesNotDependOnThreadCount) {
   expect_valid(two, 1.0);
 }
 
+TEST(OdtSmoothBoundary, QualityGuardReadsCurrentBallMinima) {
+  // The guard reads each ball's minimum stretch from stretches kept per tet
+  // and updated by the moves: every minimum it reads equals the one
+  // computed from the mesh, over several sweeps in both thread counts, and
+  // checking changes nothing.
+  const int n = 12;
+  TetMesh start = build(testing::make_cube_mesh(n, 0.1, 7));
+  ASSERT_GT(perturb_cube_boundary(start, n, 0.3, 11), 500);
+  const BoundaryGeometry geometry = cube_geometry(true);
+  BoundarySmoothOptions checked;
+  checked.iterations = 4;
+  checked.check_stretch_cache = true;
+  BoundarySmoothOptions plain = checked;
+  plain.check_stretch_cache = false;
+  for (const int threads : {1, 2}) {
+    TetMesh with_check = start, without = start;
+    const OdtSmoothReport r =
+        testing::with_threads(threads, [&] { return odt_smooth_surface(with_check, geometry, checked); });
+    testing::with_threads(threads, [&] { return odt_smooth_surface(without, geometry, plain); });
+    std::printf("%d thread(s): %zu ball minima read, %zu differ; %zu moves in %d sweeps\n", threads, r.cache_checked,
+                r.cache_disagreements, r.moved, r.sweeps);
+    EXPECT_GE(r.sweeps, 2);
+    EXPECT_GT(r.moved, r.cache_checked / 4);  // many moves change the kept stretches
+    EXPECT_GT(r.cache_checked, 1000u);
+    EXPECT_EQ(r.cache_disagreements, 0u);
+    std::size_t differing = 0;
+    for (index_t v = 0; v < start.vertex_slots(); ++v)
+      differing += !same_point(with_check.point(v), without.point(v));
+    EXPECT_EQ(differing, 0u);
+  }
+}
+
 TEST(OdtSmoothBoundary, MaskedOutVerticesStay) {
   const int n = 5;
   TetMesh mesh = build(testing::make_cube_mesh(n, 0.1, 3));
