@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <vector>
 
 namespace femorph {
 
@@ -49,14 +50,26 @@ WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions
             (static_cast<std::size_t>(v) < options.vertex_mask.size() && options.vertex_mask[v]));
   };
   for (int pass = 0; pass < options.passes; ++pass) {
+    // The vertices of the tets below the threshold, found in parallel
+    // (sorted below, so the order found does not matter).
     candidates.clear();
-    for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-      if (!mesh.tet_alive(t)) continue;
-      const Tet& T = mesh.tet(t);
-      if (tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) >= options.threshold)
-        continue;
-      for (const index_t v : T)
-        if (movable(v)) candidates.push_back(v);
+    {
+      constexpr long kChunk = 8192;
+      const long slots = mesh.tet_slots(), chunks = (slots + kChunk - 1) / kChunk;
+      std::vector<std::vector<index_t>> found(static_cast<std::size_t>(chunks));
+#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
+      for (long c = 0; c < chunks; ++c)
+        for (long i = c * kChunk; i < std::min(slots, (c + 1) * kChunk); ++i) {
+          const index_t t = static_cast<index_t>(i);
+          if (!mesh.tet_alive(t)) continue;
+          const Tet& T = mesh.tet(t);
+          if (tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) >=
+              options.threshold)
+            continue;
+          for (const index_t v : T)
+            if (movable(v)) found[static_cast<std::size_t>(c)].push_back(v);
+        }
+      for (const std::vector<index_t>& f : found) candidates.insert(candidates.end(), f.begin(), f.end());
     }
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());

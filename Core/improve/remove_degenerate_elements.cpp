@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <queue>
+#include <utility>
 #include <vector>
 
 namespace femorph {
@@ -272,16 +273,30 @@ class DegenerateRemover {
 
   DegenerateRemovalStats run() {
     DegenerateRemovalStats st;
-    std::priority_queue<HeapEntry, std::vector<HeapEntry>, std::greater<HeapEntry>> heap;
+    // Step 1: tets below gamma_st on a min-heap by stretch. The stretches
+    // are found in parallel (a serial scan took about 45 ms per call at 1M
+    // tets, seven calls per Phased ODT run); stretch and tet id order the
+    // heap totally, so its pops do not depend on how it was filled.
     double qmin = std::numeric_limits<double>::infinity();
-    // Step 1: tets below gamma_st on a min-heap by stretch.
-    for (index_t t = 0; t < m_.tet_slots(); ++t) {
-      if (!m_.tet_alive(t)) continue;
-      double q;
-      const bool target = is_target(t, &q);
-      qmin = std::min(qmin, q);
-      if (target) heap.push({q, t, m_.tet(t)});
+    std::vector<HeapEntry> targets;
+    {
+      constexpr long kChunk = 8192;
+      const long slots = m_.tet_slots(), chunks = (slots + kChunk - 1) / kChunk;
+      std::vector<std::vector<HeapEntry>> found(static_cast<std::size_t>(chunks));
+#pragma omp parallel for schedule(static) reduction(min : qmin) if (slots >= kParallelMinItems)
+      for (long c = 0; c < chunks; ++c)
+        for (long i = c * kChunk; i < std::min(slots, (c + 1) * kChunk); ++i) {
+          const index_t t = static_cast<index_t>(i);
+          if (!m_.tet_alive(t)) continue;
+          double q;
+          const bool target = is_target(t, &q);
+          qmin = std::min(qmin, q);
+          if (target) found[static_cast<std::size_t>(c)].push_back({q, t, m_.tet(t)});
+        }
+      for (const std::vector<HeapEntry>& f : found) targets.insert(targets.end(), f.begin(), f.end());
     }
+    std::priority_queue<HeapEntry, std::vector<HeapEntry>, std::greater<HeapEntry>> heap(
+        std::greater<HeapEntry>(), std::move(targets));
     st.min_stretch_before = qmin;
     st.initial_below = heap.size();
     const std::size_t max_ops = opt_.max_operations ? opt_.max_operations : 20 * heap.size() + 100;
@@ -321,12 +336,18 @@ class DegenerateRemover {
       }
     }
     qmin = std::numeric_limits<double>::infinity();
-    for (index_t t = 0; t < m_.tet_slots(); ++t) {
+    std::size_t remaining = 0;
+    const long slots = m_.tet_slots();
+#pragma omp parallel for schedule(static) reduction(min : qmin) reduction(+ : remaining) \
+    if (slots >= kParallelMinItems)
+    for (long i = 0; i < slots; ++i) {
+      const index_t t = static_cast<index_t>(i);
       if (!m_.tet_alive(t)) continue;
       double q;
-      if (is_target(t, &q)) ++st.remaining_below;
+      if (is_target(t, &q)) ++remaining;
       qmin = std::min(qmin, q);
     }
+    st.remaining_below = remaining;
     st.min_stretch_after = qmin;
     return st;
   }
