@@ -3,6 +3,7 @@
 
 #include "improve/ball_quality.h"
 #include "improve/edge_queue.h"
+#include "improve/scan_live_tets.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
 
@@ -48,37 +49,27 @@ void sort_unique_by_ends(std::vector<HeapEdge>& edges) {
 /// sorting.
 void edges_passing(const TetMesh& mesh, const DensityGrid& grid, DensityLookup lookup, const std::vector<char>& mask,
                    double beta1, double beta2, std::vector<HeapEdge>* longs, std::vector<HeapEdge>* shorts) {
-  constexpr long kChunk = 8192;
-  const long slots = mesh.tet_slots();
-  const long chunks = (slots + kChunk - 1) / kChunk;
-  std::vector<std::vector<HeapEdge>> found_long(static_cast<std::size_t>(chunks)),
-      found_short(static_cast<std::size_t>(chunks));
-#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
-  for (long c = 0; c < chunks; ++c) {
-    std::vector<HeapEdge>& out_long = found_long[static_cast<std::size_t>(c)];
-    std::vector<HeapEdge>& out_short = found_short[static_cast<std::size_t>(c)];
-    const long end = std::min(slots, (c + 1) * kChunk);
-    for (long t = c * kChunk; t < end; ++t) {
-      if (!mesh.tet_alive(static_cast<index_t>(t))) continue;
-      const Tet& T = mesh.tet(static_cast<index_t>(t));
-      for (const auto& e : kTetEdge) {
-        const index_t a = std::min(T[e[0]], T[e[1]]), b = std::max(T[e[0]], T[e[1]]);
-        if (!masked(mask, a) || !masked(mask, b)) continue;
-        double length;
-        const double s = scaled_length(mesh, grid, lookup, a, b, &length);
-        if (longs && s >= beta1) out_long.push_back({length, a, b, static_cast<index_t>(t)});
-        if (shorts && s > 0 && s <= beta2) out_short.push_back({length, a, b});
-      }
+  struct Found {
+    std::vector<HeapEdge> longs, shorts;
+  };
+  const std::vector<Found> found = scan_live_tets(mesh, Found{}, [&](index_t t, Found& f) {
+    const Tet& T = mesh.tet(t);
+    for (const auto& e : kTetEdge) {
+      const index_t a = std::min(T[e[0]], T[e[1]]), b = std::max(T[e[0]], T[e[1]]);
+      if (!masked(mask, a) || !masked(mask, b)) continue;
+      double length;
+      const double s = scaled_length(mesh, grid, lookup, a, b, &length);
+      if (longs && s >= beta1) f.longs.push_back({length, a, b, t});
+      if (shorts && s > 0 && s <= beta2) f.shorts.push_back({length, a, b});
     }
+  });
+  if (longs) {
+    join_chunks(found, [](const Found& f) -> const std::vector<HeapEdge>& { return f.longs; }, longs);
+    sort_unique_by_ends(*longs);
   }
-  for (auto [out, found] : {std::make_pair(longs, &found_long), std::make_pair(shorts, &found_short)}) {
-    if (!out) continue;
-    out->clear();
-    std::size_t total = 0;
-    for (const std::vector<HeapEdge>& f : *found) total += f.size();
-    out->reserve(total);
-    for (const std::vector<HeapEdge>& f : *found) out->insert(out->end(), f.begin(), f.end());
-    sort_unique_by_ends(*out);
+  if (shorts) {
+    join_chunks(found, [](const Found& f) -> const std::vector<HeapEdge>& { return f.shorts; }, shorts);
+    sort_unique_by_ends(*shorts);
   }
 }
 

@@ -2,6 +2,7 @@
 // smoothing of the inner vertices alternated with quality-raising flips.
 #include "improve/improve_volume.h"
 
+#include "improve/scan_live_tets.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
 
@@ -13,32 +14,25 @@
 namespace femorph {
 
 void live_stretch_range(const TetMesh& mesh, double* min_stretch, double* mean_stretch) {
-  // Per fixed chunk of tet slots, combined in chunk order: the mean does not
-  // depend on the number of threads.
-  constexpr long kChunk = 8192;
-  const long slots = mesh.tet_slots(), chunks = (slots + kChunk - 1) / kChunk;
-  std::vector<double> chunk_min(static_cast<std::size_t>(chunks), std::numeric_limits<double>::infinity()),
-      chunk_sum(chunk_min.size(), 0.0);
-  std::vector<std::size_t> chunk_count(chunk_min.size(), 0);
-#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
-  for (long c = 0; c < chunks; ++c) {
-    const std::size_t i = static_cast<std::size_t>(c);
-    for (long k = c * kChunk; k < std::min(slots, (c + 1) * kChunk); ++k) {
-      const index_t t = static_cast<index_t>(k);
-      if (!mesh.tet_alive(t)) continue;
-      const Tet& T = mesh.tet(t);
-      const double q = tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3]));
-      chunk_min[i] = std::min(chunk_min[i], q);
-      chunk_sum[i] += q;
-      ++chunk_count[i];
-    }
-  }
+  // Combined in chunk order: the mean does not depend on the number of
+  // threads.
+  struct Range {
+    double lo = std::numeric_limits<double>::infinity(), sum = 0;
+    std::size_t n = 0;
+  };
+  const std::vector<Range> ranges = scan_live_tets(mesh, Range{}, [&](index_t t, Range& r) {
+    const Tet& T = mesh.tet(t);
+    const double q = tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3]));
+    r.lo = std::min(r.lo, q);
+    r.sum += q;
+    ++r.n;
+  });
   double lo = std::numeric_limits<double>::infinity(), sum = 0;
   std::size_t n = 0;
-  for (std::size_t i = 0; i < chunk_min.size(); ++i) {
-    lo = std::min(lo, chunk_min[i]);
-    sum += chunk_sum[i];
-    n += chunk_count[i];
+  for (const Range& r : ranges) {
+    lo = std::min(lo, r.lo);
+    sum += r.sum;
+    n += r.n;
   }
   if (min_stretch) *min_stretch = n ? lo : 0;
   if (mean_stretch) *mean_stretch = n ? sum / static_cast<double>(n) : 0;

@@ -1,6 +1,7 @@
 #include "improve/optimize_worst_vertices.h"
 
 #include "improve/ball_quality.h"
+#include "improve/scan_live_tets.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
 
@@ -52,25 +53,14 @@ WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions
   for (int pass = 0; pass < options.passes; ++pass) {
     // The vertices of the tets below the threshold, found in parallel
     // (sorted below, so the order found does not matter).
-    candidates.clear();
-    {
-      constexpr long kChunk = 8192;
-      const long slots = mesh.tet_slots(), chunks = (slots + kChunk - 1) / kChunk;
-      std::vector<std::vector<index_t>> found(static_cast<std::size_t>(chunks));
-#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
-      for (long c = 0; c < chunks; ++c)
-        for (long i = c * kChunk; i < std::min(slots, (c + 1) * kChunk); ++i) {
-          const index_t t = static_cast<index_t>(i);
-          if (!mesh.tet_alive(t)) continue;
-          const Tet& T = mesh.tet(t);
-          if (tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) >=
-              options.threshold)
-            continue;
-          for (const index_t v : T)
-            if (movable(v)) found[static_cast<std::size_t>(c)].push_back(v);
-        }
-      for (const std::vector<index_t>& f : found) candidates.insert(candidates.end(), f.begin(), f.end());
-    }
+    const auto found = scan_live_tets(mesh, std::vector<index_t>{}, [&](index_t t, std::vector<index_t>& out) {
+      const Tet& T = mesh.tet(t);
+      if (tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) >= options.threshold)
+        return;
+      for (const index_t v : T)
+        if (movable(v)) out.push_back(v);
+    });
+    join_chunks(found, [](const std::vector<index_t>& f) -> const std::vector<index_t>& { return f; }, &candidates);
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
     if (candidates.empty()) break;

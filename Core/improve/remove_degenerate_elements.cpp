@@ -2,6 +2,7 @@
 #include "improve/remove_degenerate_elements.h"
 
 #include "improve/collapse_min_stretch.h"
+#include "improve/scan_live_tets.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
 
@@ -280,20 +281,17 @@ class DegenerateRemover {
     double qmin = std::numeric_limits<double>::infinity();
     std::vector<HeapEntry> targets;
     {
-      constexpr long kChunk = 8192;
-      const long slots = m_.tet_slots(), chunks = (slots + kChunk - 1) / kChunk;
-      std::vector<std::vector<HeapEntry>> found(static_cast<std::size_t>(chunks));
-#pragma omp parallel for schedule(static) reduction(min : qmin) if (slots >= kParallelMinItems)
-      for (long c = 0; c < chunks; ++c)
-        for (long i = c * kChunk; i < std::min(slots, (c + 1) * kChunk); ++i) {
-          const index_t t = static_cast<index_t>(i);
-          if (!m_.tet_alive(t)) continue;
-          double q;
-          const bool target = is_target(t, &q);
-          qmin = std::min(qmin, q);
-          if (target) found[static_cast<std::size_t>(c)].push_back({q, t, m_.tet(t)});
-        }
-      for (const std::vector<HeapEntry>& f : found) targets.insert(targets.end(), f.begin(), f.end());
+      struct Found {
+        std::vector<HeapEntry> targets;
+        double qmin = std::numeric_limits<double>::infinity();
+      };
+      const std::vector<Found> found = scan_live_tets(m_, Found{}, [&](index_t t, Found& f) {
+        double q;
+        if (is_target(t, &q)) f.targets.push_back({q, t, m_.tet(t)});
+        f.qmin = std::min(f.qmin, q);
+      });
+      join_chunks(found, [](const Found& f) -> const std::vector<HeapEntry>& { return f.targets; }, &targets);
+      for (const Found& f : found) qmin = std::min(qmin, f.qmin);
     }
     std::priority_queue<HeapEntry, std::vector<HeapEntry>, std::greater<HeapEntry>> heap(
         std::greater<HeapEntry>(), std::move(targets));
