@@ -4,6 +4,7 @@
 #include "improve/improve_tets_by_flips.h"
 #include "improve/improve_volume.h"
 #include "improve/odt_smooth_volume.h"
+#include "improve/scan_live_tets.h"
 #include "improve/split_locked_tets.h"
 #include "io/read_medit_mesh.h"
 #include "mesh/tet_mesh.h"
@@ -69,6 +70,46 @@ TetMesh perturbed_cube(double* volume, double* undeformed_mean) {
   live_stretch_range(m, nullptr, undeformed_mean);
   EXPECT_GT(perturb_inner_vertices(m, 0.4, 11), 200);
   return m;
+}
+
+// The shared scan of Improve's full-mesh passes: every live tet once, none
+// of the dead slots collapses leave, each chunk's slots in order, the same
+// for 1 and 2 threads.
+TEST(ScanLiveTets, VisitsLiveTetsInSlotOrderPerChunk) {
+  TetMesh m;
+  const auto cube = testing::make_cube_mesh(14, 0.1, 3);
+  ASSERT_TRUE(m.build(cube.points, cube.tets).ok);
+  std::vector<index_t> nb;
+  int collapsed = 0;
+  for (index_t v = 0; v < m.vertex_slots() && collapsed < 40; v += 97) {
+    if (!m.vertex_alive(v) || m.vertex_class(v) != VertexClass::Inner) continue;
+    m.vertex_neighbors(v, nb);
+    for (const index_t w : nb)
+      if (m.vertex_class(w) == VertexClass::Inner && m.collapse_edge(w, v, nullptr) == OpStatus::Ok) {
+        ++collapsed;
+        break;
+      }
+  }
+  ASSERT_GT(collapsed, 10);
+  std::vector<index_t> live;
+  for (index_t t = 0; t < m.tet_slots(); ++t)
+    if (m.tet_alive(t)) live.push_back(t);
+  ASSERT_LT(live.size(), static_cast<std::size_t>(m.tet_slots()));
+  ASSERT_GT(m.tet_slots(), 2 * kTetScanChunk);  // several chunks, run in parallel
+  for (const int threads : {1, 2}) {
+    const auto chunks = testing::with_threads(threads, [&] {
+      return scan_live_tets(m, std::vector<index_t>{}, [](index_t t, std::vector<index_t>& out) { out.push_back(t); });
+    });
+    ASSERT_EQ(static_cast<long>(chunks.size()), (m.tet_slots() + kTetScanChunk - 1) / kTetScanChunk);
+    for (std::size_t c = 0; c < chunks.size(); ++c)
+      for (const index_t t : chunks[c]) {
+        EXPECT_GE(t, static_cast<index_t>(c * kTetScanChunk));
+        EXPECT_LT(t, static_cast<index_t>((c + 1) * kTetScanChunk));
+      }
+    std::vector<index_t> joined{42};  // replaced, not appended to
+    join_chunks(chunks, [](const std::vector<index_t>& f) -> const std::vector<index_t>& { return f; }, &joined);
+    EXPECT_EQ(joined, live) << threads << " thread(s)";
+  }
 }
 
 TEST(ImproveVolume, JitteredCubeReachesGoal) {
