@@ -60,6 +60,10 @@ struct DensityControlOptions {
   /// then halves an edge twice, as a x3 stretch needs). false: the thesis'
   /// steps 1-3, each edge halved once per pass.
   bool resplit_halves = true;
+  /// Beyond the thesis: a split pass merges an inner midpoint into an inner
+  /// vertex it made earlier when the two are closer than beta2 of the
+  /// target (split_pass in control_mesh_density.cpp).
+  bool merge_new_midpoints = true;
   /// Rounds of split pass + collapse pass.
   int max_iterations = 20;
   /// How rho_GC is read (the thesis: Cell).
@@ -100,6 +104,7 @@ struct DensityControlStats {
   std::size_t splits = 0;
   std::size_t collapses = 0;
   std::size_t refused_splits = 0;       ///< by validity or the stretch floor
+  std::size_t merged_midpoints = 0;     ///< splits whose midpoint merged (merge_new_midpoints)
   std::size_t refused_collapses = 0;    ///< by Fig. 2.37, link, validity, floor
   std::size_t projections = 0;          ///< project callbacks applied
   std::size_t queue_checked = 0;        ///< with check_queue only
