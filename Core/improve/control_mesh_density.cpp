@@ -134,16 +134,70 @@ struct SplitEval {
   // Length and scaled length of (a, m) and (b, m), m the midpoint: the
   // halves the split pass requeues when long, looked up in parallel.
   double half_length[2] = {0, 0}, half_scaled[2] = {0, 0};
+  // The vertex the midpoint merges into (plan_merge), or kInvalidIndex, and
+  // that vertex's new neighbours.
+  index_t merge_into = kInvalidIndex;
+  std::vector<index_t> merge_neighbours;
 };
+
+/// Beyond the thesis: the merge of the inner midpoint m of a split into the
+/// nearest vertex `into` of the edge's ring that this pass made (half-edge
+/// collapse m -> into right after the split), when their scaled distance is
+/// at most beta2. In a layer stretched across, the midpoints of two split
+/// edges of one triangle lie half the third edge apart; left to the
+/// collapse pass, 85% of phase 3's first collapses at x3 were such pairs.
+/// Planned on the ring before the split, read only (in parallel; a
+/// candidate whose ring an earlier split of its batch changed is requeued,
+/// so the plan still holds when it is committed): every
+/// ring tet (.. a .. b ..) becomes (b -> m) and (a -> m), and with m renamed
+/// `into` those without `into` must stay at or above options.min_stretch,
+/// and no edge of `into` to the ring's vertices or the edge's ends may
+/// become long (scaled length >= beta1).
+void plan_merge(const TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
+                const std::vector<char>& made, const Vec3& m, SplitEval& e) {
+  const index_t a = e.entry.a, b = e.entry.b;
+  const auto made_here = [&made](index_t w) { return static_cast<std::size_t>(w) < made.size() && made[w]; };
+  index_t into = kInvalidIndex;
+  double best = options.collapse_threshold;
+  for (const index_t w : e.opposite) {
+    if (!made_here(w) || mesh.vertex_class(w) != VertexClass::Inner) continue;
+    const Vec3& q = mesh.point(w);
+    const double scaled = (q - m).norm() * grid.density_at(0.5 * (m + q), options.lookup);
+    if (scaled > 0 && scaled <= best) {
+      best = scaled;
+      into = w;
+    }
+  }
+  if (into == kInvalidIndex) return;
+  for (const index_t t : e.ring) {
+    const Tet& T = mesh.tet(t);
+    if (std::find(T.begin(), T.end(), into) != T.end()) continue;  // goes with the edge
+    if (stretch_with(mesh, t, b, into, kInvalidIndex, Vec3::Zero()) < options.min_stretch ||
+        stretch_with(mesh, t, a, into, kInvalidIndex, Vec3::Zero()) < options.min_stretch)
+      return;
+  }
+  std::vector<index_t>& neighbours = e.merge_neighbours;
+  neighbours.clear();
+  neighbours.push_back(a);
+  neighbours.push_back(b);
+  for (const index_t w : e.opposite)
+    if (w != into && std::find(neighbours.begin(), neighbours.end(), w) == neighbours.end()) neighbours.push_back(w);
+  for (const index_t w : neighbours) {
+    double length;
+    if (scaled_length(mesh, grid, options.lookup, into, w, &length) >= options.split_threshold) return;
+  }
+  e.merge_into = into;
+}
 
 /// Steps 2-3 for one candidate without changing the mesh: its ring, and
 /// whether the split keeps the stretch floor (every ring tet becomes two,
 /// one with each end replaced by the midpoint). Read only, with the
 /// caller's walk marks, so candidates can be evaluated in parallel.
 void evaluate_split(const TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
-                    TetMesh::WalkMarks& marks, SplitEval& e) {
+                    const std::vector<char>& made, TetMesh::WalkMarks& marks, SplitEval& e) {
   const index_t a = e.entry.a, b = e.entry.b;
   e.accepted = false;
+  e.merge_into = kInvalidIndex;
   e.ring.clear();
   e.opposite.clear();
   const index_t t0 = mesh.find_edge_tet(a, b, e.entry.tag, marks);
@@ -164,34 +218,12 @@ void evaluate_split(const TetMesh& mesh, const DensityGrid& grid, const DensityC
     for (const index_t t : e.ring)
       old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, m));
   e.accepted = !below_floor(new_min, options.split_relative_floor * old_min, options.min_stretch);
+  if (e.accepted && options.merge_new_midpoints && !e.boundary) plan_merge(mesh, grid, options, made, m, e);
 }
 
 }  // namespace
 
 namespace {
-
-/// The merge of a new midpoint v into the nearby new vertex `into`
-/// (half-edge collapse v -> into) when it keeps every tet of v's ball
-/// valid and at or above options.min_stretch and makes no edge of scaled
-/// length >= beta1. On success *neighbours holds v's former neighbours
-/// (the ends of into's new edges).
-bool merge_into(TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options, index_t v,
-                index_t into, std::vector<index_t>& ball, std::vector<index_t>& neighbours) {
-  mesh.vertex_ball(v, ball);
-  neighbours.clear();
-  for (const index_t t : ball) {
-    const Tet& T = mesh.tet(t);
-    if (std::find(T.begin(), T.end(), into) != T.end()) continue;  // goes with the edge
-    if (stretch_with(mesh, t, v, into, kInvalidIndex, Vec3::Zero()) < options.min_stretch) return false;
-    for (const index_t w : T)
-      if (w != v && std::find(neighbours.begin(), neighbours.end(), w) == neighbours.end()) neighbours.push_back(w);
-  }
-  for (const index_t w : neighbours) {
-    double length;
-    if (scaled_length(mesh, grid, options.lookup, into, w, &length) >= options.split_threshold) return false;
-  }
-  return mesh.half_edge_collapse(v, into) == OpStatus::Ok;
-}
 
 /// Steps 1-3 (split_long_edges). With `shorts`, also the edges that
 /// qualify for step 4 when the pass ends, which the collapse pass then need
@@ -214,7 +246,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
   std::vector<char> made;  // vertices this pass created
   std::vector<std::pair<index_t, index_t>> created;  // with `shorts`: the edges the splits made
   const auto made_here = [&made](index_t w) { return static_cast<std::size_t>(w) < made.size() && made[w]; };
-  std::vector<index_t> ball, merge_scratch;
+  std::vector<index_t> ball;
   // Beyond the thesis: the longest edges are popped in batches, evaluated
   // in parallel (read only) and split in heap order; a candidate whose ring
   // an earlier split of its batch changed goes back into the heap. The
@@ -246,7 +278,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
     const long count = static_cast<long>(n);
 #pragma omp parallel for schedule(dynamic, 8) if (count >= 32)
     for (long i = 0; i < count; ++i)
-      evaluate_split(mesh, grid, options, marks[static_cast<std::size_t>(omp_get_thread_num())],
+      evaluate_split(mesh, grid, options, made, marks[static_cast<std::size_t>(omp_get_thread_num())],
                      batch[static_cast<std::size_t>(i)]);
     ++batch_id;
     if (changed.size() < static_cast<std::size_t>(mesh.vertex_slots()))
@@ -285,31 +317,17 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
         if (p == Projection::Moved && stats) ++stats->projections;
       }
       ++splits;
-      // Beyond the thesis: an inner midpoint next to an inner vertex this
-      // pass made, closer than beta2 of the target, merges into it at once
-      // (half-edge collapse: no vertex moves during the pass). In a layer
-      // stretched across, the midpoints of two split edges of one triangle
-      // lie half the third edge apart; left to the collapse pass, 85% of
-      // phase 3's first collapses at x3 were such pairs.
-      if (options.merge_new_midpoints && mesh.vertex_class(v) == VertexClass::Inner) {
-        index_t into = kInvalidIndex;
-        double best = beta2;
-        for (const index_t w : e.opposite) {
-          if (!made_here(w) || mesh.vertex_class(w) != VertexClass::Inner) continue;
-          double length;
-          const double scaled = scaled_length(mesh, grid, options.lookup, v, w, &length);
-          if (scaled > 0 && scaled <= best) {
-            best = scaled;
-            into = w;
-          }
-        }
-        if (into != kInvalidIndex && merge_into(mesh, grid, options, v, into, ball, merge_scratch)) {
+      // The merge planned for it (plan_merge), when the collapse's own
+      // checks pass on the mesh as it is.
+      if (e.merge_into != kInvalidIndex) {
+        const index_t into = e.merge_into;
+        if (mesh.half_edge_collapse(v, into) == OpStatus::Ok) {
           if (stats) ++stats->merged_midpoints;
           // `into` may be younger than this batch's marks.
           if (static_cast<std::size_t>(into) >= changed.size()) changed.resize(static_cast<std::size_t>(into) + 1, 0);
           changed[static_cast<std::size_t>(into)] = batch_id;
           if (shorts)
-            for (const index_t w : merge_scratch) created.push_back({std::min(into, w), std::max(into, w)});
+            for (const index_t w : e.merge_neighbours) created.push_back({std::min(into, w), std::max(into, w)});
           continue;
         }
       }

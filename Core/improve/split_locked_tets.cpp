@@ -1,6 +1,7 @@
 #include "improve/split_locked_tets.h"
 
 #include "improve/optimize_worst_vertices.h"
+#include "improve/scan_live_tets.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
 
@@ -32,16 +33,19 @@ LockedTetStats split_locked_tets(TetMesh& mesh, const LockedTetOptions& options)
            (static_cast<std::size_t>(v) < options.vertex_mask.size() && options.vertex_mask[v]);
   };
   // The locked tets, worst first (tets are re-checked when their turn comes).
-  std::vector<std::pair<double, Tet>> locked;
-  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-    if (!mesh.tet_alive(t)) continue;
+  // Found in parallel (read only); the sort makes the order independent of
+  // the threads.
+  using Entry = std::pair<double, Tet>;
+  const std::vector<std::vector<Entry>> found = scan_live_tets(mesh, std::vector<Entry>{},
+                                                               [&](index_t t, std::vector<Entry>& out) {
     const Tet& T = mesh.tet(t);
-    bool candidate = true;
-    for (const index_t v : T) candidate = candidate && (mesh.on_boundary(v) || !options.only_locked) && flagged(v);
-    if (!candidate) continue;
+    for (const index_t v : T)
+      if ((options.only_locked && !mesh.on_boundary(v)) || !flagged(v)) return;
     const double q = stretch_of(mesh, t);
-    if (q < options.threshold) locked.emplace_back(q, T);
-  }
+    if (q < options.threshold) out.emplace_back(q, T);
+  });
+  std::vector<Entry> locked;
+  join_chunks(found, [](const std::vector<Entry>& f) -> const std::vector<Entry>& { return f; }, &locked);
   std::sort(locked.begin(), locked.end());
   stats.locked = locked.size();
 
