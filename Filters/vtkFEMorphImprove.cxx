@@ -370,8 +370,10 @@ int vtkFEMorphImprove::RequestData(
       // Eq. 2.33: with the input's connectivity the densities travel with
       // the material; otherwise the reference's field is used in space.
       const bool same = SameConnectivity(input, reference);
-      const bool built = same ? grid.build(points, tets, densities, cell)
-                              : grid.build(refPoints, refTets, densities, cell);
+      // Improve looks the field up per cell (rho_GC), not trilinearly.
+      constexpr std::size_t maxPoints = std::size_t(1) << 27;
+      const bool built = same ? grid.build(points, tets, densities, cell, maxPoints, false)
+                              : grid.build(refPoints, refTets, densities, cell, maxPoints, false);
       if (!built)
       {
         vtkWarningMacro(<< Label << ": no density field could be made from the Reference (grid "
@@ -406,7 +408,7 @@ int vtkFEMorphImprove::RequestData(
       double meanLength = 0;
       const std::vector<double> densities = femorph::vertex_density(points, tets, &meanLength);
       const double cell = this->GridCellSize > 0 ? this->GridCellSize : 0.5 * meanLength;
-      grid.build(points, tets, densities, cell);
+      grid.build(points, tets, densities, cell, std::size_t(1) << 27, false);
     }
     if (acceptable.empty() && haveSegmentation)
     {

@@ -188,7 +188,8 @@ double mean_edge_length(const std::vector<Vec3>& points, const std::vector<Tet>&
 }
 
 bool DensityGrid::build(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
-                        const std::vector<double>& densities, double cell_size, std::size_t max_points) {
+                        const std::vector<double>& densities, double cell_size, std::size_t max_points,
+                        bool with_trilinear) {
   *this = DensityGrid();
   if (tets.empty() || densities.size() != points.size()) return false;
   if (!(cell_size > 0)) cell_size = 0.5 * mean_edge_length(points, tets);
@@ -311,9 +312,11 @@ bool DensityGrid::build(const std::vector<Vec3>& points, const std::vector<Tet>&
   }
 
   // Trilinear lookup: grid points outside the mesh take their neighbours'.
-  filled_points_ = raw_points_;
-  std::vector<char> filled_known = known;
-  fill_from_neighbours({{n_[0] + 1, n_[1] + 1, n_[2] + 1}}, filled_points_, filled_known);
+  if (with_trilinear) {
+    filled_points_ = raw_points_;
+    std::vector<char> filled_known = known;
+    fill_from_neighbours({{n_[0] + 1, n_[1] + 1, n_[2] + 1}}, filled_points_, filled_known);
+  }
 
   // rho_GC: the average of the nonzero densities of the cell's corners;
   // cells without any take their neighbour cells' values.
@@ -353,7 +356,7 @@ double DensityGrid::density_at(const Vec3& p, DensityLookup lookup) const {
     c[a] = std::min(static_cast<int>(std::floor(t)), n_[a] - 1);
     f[a] = t - c[a];
   }
-  if (lookup == DensityLookup::Cell) return cell_values_[cell_id(c[0], c[1], c[2])];
+  if (lookup == DensityLookup::Cell || filled_points_.empty()) return cell_values_[cell_id(c[0], c[1], c[2])];
   double value = 0;
   for (int q = 0; q < 8; ++q) {
     const int dx = q & 1, dy = (q >> 1) & 1, dz = (q >> 2) & 1;

@@ -122,6 +122,16 @@ TEST(MeshDensity, GridExactForLinearFields) {
   // Far outside: clamped to the grid.
   EXPECT_DOUBLE_EQ(coarse.density_at(Vec3(-10, 0.5, 0.5)), coarse.density_at(Vec3(0, 0.5, 0.5)));
 
+  // Cell lookups only (as Improve builds it): the same cell values, and a
+  // trilinear lookup answers with the cell value, not a stale or empty one.
+  DensityGrid cells_only;
+  ASSERT_TRUE(cells_only.build(m.points, m.tets, values, 0.3, std::size_t(1) << 27, false));
+  for (int s = 0; s < 100; ++s) {
+    const Vec3 p = 1.1 * Vec3(u(rng), u(rng), u(rng));
+    EXPECT_EQ(cells_only.cell_density(p), coarse.cell_density(p));
+    EXPECT_EQ(cells_only.density_at(p), coarse.cell_density(p));
+  }
+
   // Default spacing: half the mean edge length.
   DensityGrid def;
   ASSERT_TRUE(def.build(m.points, m.tets, values, 0.0));
