@@ -23,6 +23,13 @@ bool masked(const std::vector<char>& mask, index_t v) {
   return mask.empty() || (static_cast<std::size_t>(v) < mask.size() && mask[v]);
 }
 
+/// DensityControlOptions::touched.
+void touch(std::vector<char>* touched, index_t v) {
+  if (!touched) return;
+  if (static_cast<std::size_t>(v) >= touched->size()) touched->resize(static_cast<std::size_t>(v) + 1, 0);
+  (*touched)[static_cast<std::size_t>(v)] = 1;
+}
+
 /// L(e) * rho_GC(c_e); 0 where the field has no density.
 double scaled_length(const TetMesh& mesh, const DensityGrid& grid, DensityLookup lookup, index_t a, index_t b,
                      double* length) {
@@ -323,6 +330,8 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
         const index_t into = e.merge_into;
         if (mesh.half_edge_collapse(v, into) == OpStatus::Ok) {
           if (stats) ++stats->merged_midpoints;
+          for (const index_t w : {v, into}) touch(options.touched, w);
+          for (const index_t w : e.merge_neighbours) touch(options.touched, w);
           // `into` may be younger than this batch's marks.
           if (static_cast<std::size_t>(into) >= changed.size()) changed.resize(static_cast<std::size_t>(into) + 1, 0);
           changed[static_cast<std::size_t>(into)] = batch_id;
@@ -331,6 +340,9 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
           continue;
         }
       }
+      if (options.touched)
+        for (const index_t w : {v, top.a, top.b}) touch(options.touched, w);
+      for (const index_t w : e.opposite) touch(options.touched, w);
       if (shorts) {
         for (const index_t w : {top.a, top.b}) created.push_back({std::min(v, w), std::max(v, w)});
         for (const index_t w : e.opposite) created.push_back({std::min(v, w), std::max(v, w)});
@@ -629,6 +641,9 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
         continue;
       }
       ++collapses;
+      touch(options.touched, e.plan.keep);
+      touch(options.touched, e.plan.remove);
+      for (const index_t w : e.neighbours) touch(options.touched, w);
       moved_at[static_cast<std::size_t>(e.plan.keep)] = ++clock;
       if (e.projected && stats) ++stats->projections;
       changed[static_cast<std::size_t>(e.plan.keep)] = batch_id;

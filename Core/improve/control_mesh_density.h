@@ -64,6 +64,10 @@ struct DensityControlOptions {
   /// vertex it made earlier when the two are closer than beta2 of the
   /// target (split_pass in control_mesh_density.cpp).
   bool merge_new_midpoints = true;
+  /// When set: every vertex whose position or neighbours an accepted split,
+  /// merge or collapse changed is set to 1 (the vector grows as needed), so
+  /// a caller can smooth just there.
+  std::vector<char>* touched = nullptr;
   /// Rounds of split pass + collapse pass.
   int max_iterations = 20;
   /// How rho_GC is read (the thesis: Cell).

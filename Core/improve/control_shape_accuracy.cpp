@@ -225,6 +225,14 @@ AccuracyControlStats control_shape_accuracy(TetMesh& mesh, const BoundaryGeometr
     // The new boundary edges at v (halves and the edges to the opposite
     // vertices) are checked again.
     mesh.vertex_ball(v, ball);
+    if (options.touched) {
+      std::vector<char>& touched = *options.touched;
+      if (touched.size() < static_cast<std::size_t>(mesh.vertex_slots()))
+        touched.resize(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+      for (const index_t t : ball)
+        for (const index_t w : mesh.tet(t)) touched[static_cast<std::size_t>(w)] = 1;
+      for (const auto& m : moved) touched[static_cast<std::size_t>(m.first)] = 1;
+    }
     for (const index_t t : ball)
       for (int f = 0; f < 4; ++f)
         if (mesh.is_boundary_face(t, f) && mesh.tet(t)[f] != v) push_face(t, f);

@@ -58,6 +58,9 @@ struct AccuracyControlOptions {
   double min_stretch = 0.05;
   /// Safety bound on splits; 0: 4 per boundary edge over the limit + 100.
   std::size_t max_splits = 0;
+  /// When set: every vertex whose position or neighbours an accepted split
+  /// changed is set to 1 (the vector grows as needed).
+  std::vector<char>* touched = nullptr;
 };
 
 struct AccuracyControlStats {

@@ -312,6 +312,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
       // (C) mesh density control (2.6.3), one split and one collapse pass
       // per loop, on the edges of this phase.
       std::size_t operations = 0;
+      std::vector<char> touched;  // by this loop's density and accuracy operations (boundary phases)
       if (density) {
         DensityControlOptions dco;
         dco.split_threshold = options.split_threshold;
@@ -331,6 +332,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
                                                 ball_remove);
           };
         dco.vertex_mask = phase_vertices(mesh, phase, movable);
+        if (phase < 2) dco.touched = &touched;
         const DensityControlStats dcs = control_mesh_density(mesh, *target.density, dco);
         stats.splits += dcs.splits;
         stats.collapses += dcs.collapses;
@@ -349,6 +351,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         AccuracyControlOptions aco;
         aco.vertex_mask = movable_vertices(mesh, options);
         aco.min_stretch = options.quality_floor;
+        if (phase < 2) aco.touched = &touched;
         const AccuracyControlStats as = control_shape_accuracy(mesh, geometry, target.acceptable_error, aco);
         stats.splits += as.splits;
         stats.accuracy_splits += as.splits;
@@ -369,6 +372,16 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         BoundarySmoothOptions bso;
         bso.iterations = options.odt_iterations;
         bso.vertex_mask = smooth_mask;
+        // Beyond the thesis: a last loop after the first smooths only where
+        // its few operations (below min_operation_fraction of the tets)
+        // changed the mesh; the loop before smoothed the rest (x3 benchmark:
+        // the surface phase 1.4 -> 1.0 s, minimum stretch 0.302 -> 0.319).
+        if (last_loop && loop > 0) {
+          bso.vertex_mask.assign(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+          for (std::size_t v = 0; v < bso.vertex_mask.size(); ++v)
+            bso.vertex_mask[v] = v < touched.size() && touched[v] &&
+                                 (smooth_mask.empty() || (v < smooth_mask.size() && smooth_mask[v]));
+        }
         bso.quality_floor = options.quality_floor;
         if (options.accuracy_control && !target.acceptable_error.empty()) bso.acceptable_error = &target.acceptable_error;
         const OdtSmoothReport r =

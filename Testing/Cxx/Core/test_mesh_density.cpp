@@ -572,6 +572,72 @@ TEST(MeshDensity, SplitPassMergesNearbyNewMidpoints) {
   }
 }
 
+// DensityControlOptions::touched marks every vertex whose position or
+// neighbours the splits, merges and collapses changed (Improve smooths
+// only there in a boundary phase's last loop): on a cube whose half x > 0.5
+// is stretched x2 (splits and merges) or squeezed x0.5 (collapses), every
+// unmarked vertex has kept its position and its neighbours (read off the
+// tets before and after), and the undeformed half keeps a part of its
+// vertices unmarked (the jitter gives it a few operations of its own).
+TEST(MeshDensity, TouchedMarksEveryVertexAnOperationChanged) {
+  const TestMesh ref = make_cube_mesh(8, 0.1, 11);
+  const std::vector<double> rho = vertex_density(ref.points, ref.tets);
+  const auto neighbours_of = [](const std::vector<Tet>& tets, std::size_t n) {
+    std::vector<std::vector<index_t>> nb(n);
+    for (const Tet& t : tets)
+      for (const index_t a : t)
+        for (const index_t b : t)
+          if (a != b) nb[static_cast<std::size_t>(a)].push_back(b);
+    for (auto& v : nb) {
+      std::sort(v.begin(), v.end());
+      v.erase(std::unique(v.begin(), v.end()), v.end());
+    }
+    return nb;
+  };
+  const std::vector<std::vector<index_t>> before = neighbours_of(ref.tets, ref.points.size());
+  for (const double factor : {2.0, 0.5}) {
+    std::vector<Vec3> deformed = ref.points;
+    for (Vec3& p : deformed)
+      if (p.x() > 0.5) p.x() = 0.5 + factor * (p.x() - 0.5);
+    DensityGrid grid;
+    ASSERT_TRUE(grid.build(deformed, ref.tets, rho, 0.5 * mean_edge_length(ref.points, ref.tets)));
+    TetMesh mesh;
+    BuildOptions build;
+    build.face_regions = ref.face_regions;
+    ASSERT_TRUE(mesh.build(deformed, ref.tets, build).ok);
+    std::vector<char> touched;
+    DensityControlOptions options;
+    options.touched = &touched;
+    const DensityControlStats stats = control_mesh_density(mesh, grid, options);
+    ASSERT_GT(stats.splits + stats.collapses, 0u);
+    const CompactMesh out = mesh.compact();
+    const std::vector<std::vector<index_t>> after = neighbours_of(out.tets, out.points.size());
+    std::vector<index_t> slot_of(out.points.size(), kInvalidIndex);
+    for (std::size_t s = 0; s < out.vertex_map.size(); ++s)
+      if (out.vertex_map[s] >= 0) slot_of[static_cast<std::size_t>(out.vertex_map[s])] = static_cast<index_t>(s);
+    std::size_t unmarked = 0, unmarked_left = 0, left = 0;
+    for (std::size_t v = 0; v < ref.points.size(); ++v) {
+      left += ref.points[v].x() < 0.4;
+      if (v < touched.size() && touched[v]) continue;
+      ++unmarked;
+      unmarked_left += ref.points[v].x() < 0.4;
+      const index_t id = out.vertex_map[v];
+      ASSERT_GE(id, 0) << "x" << factor << ": vertex " << v << " removed but not marked";
+      EXPECT_EQ(out.points[static_cast<std::size_t>(id)], deformed[v]) << "vertex " << v << " moved, not marked";
+      std::vector<index_t> now;
+      for (const index_t w : after[static_cast<std::size_t>(id)]) now.push_back(slot_of[static_cast<std::size_t>(w)]);
+      std::sort(now.begin(), now.end());
+      EXPECT_EQ(now, before[v]) << "x" << factor << ": vertex " << v << " has other neighbours, not marked";
+    }
+    std::printf("x%.1f: %zu splits, %zu merges, %zu collapses; %zu of %zu original vertices unmarked (%zu of %zu "
+                "with x < 0.4)\n",
+                factor, stats.splits, stats.merged_midpoints, stats.collapses, unmarked, ref.points.size(),
+                unmarked_left, left);
+    EXPECT_GT(unmarked_left, left / 10);
+    EXPECT_LT(unmarked, ref.points.size());
+  }
+}
+
 // The collapse pass takes a heap entry as current, without a density
 // lookup, when neither end has moved since it was queued (a clock per pass).
 // A length compare would not do: repeated halving makes equal, parallel
