@@ -171,6 +171,7 @@ void vtkFEMorphImprove::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DensityControl: " << this->DensityControl << "\n";
   os << indent << "AccuracyControl: " << this->AccuracyControl << "\n";
   os << indent << "Flips: " << this->Flips << "\n";
+  os << indent << "RelaxEdgeLengths: " << this->RelaxEdgeLengths << "\n";
   os << indent << "MoveUnfittedRegions: " << this->MoveUnfittedRegions << "\n";
   os << indent << "OdtIterations: " << this->OdtIterations << "\n";
   os << indent << "MaxLoops: " << this->MaxLoops << "\n";
@@ -424,6 +425,7 @@ int vtkFEMorphImprove::RequestData(
     po.density_control = this->DensityControl != 0;
     po.accuracy_control = this->AccuracyControl != 0;
     po.flips = this->Flips != 0;
+    po.relax_edge_lengths = this->RelaxEdgeLengths != 0;
     po.move_unfitted_regions = this->MoveUnfittedRegions != 0;
     po.odt_iterations = this->OdtIterations;
     po.max_loops = this->MaxLoops;

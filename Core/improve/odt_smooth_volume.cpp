@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <functional>
 #include <memory>
 
 namespace femorph {
@@ -127,6 +128,79 @@ ColouredBalls coloured_balls(const TetMesh& mesh, const OdtSmoothOptions& option
   return out;
 }
 
+/// Eq. 2.31: the step from v to the density-weighted mean of the centres
+/// c_tau of its ball, and v's mean edge length (counted per tet); false
+/// when the ball has no volume.
+bool odt_centre_step(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v,
+                     const std::vector<std::uint8_t>& circumcentre, const OdtSmoothOptions& options, bool vertex_rho,
+                     Vec3* step, double* mean_length) {
+  const Vec3 x = mesh.point(v);
+  Vec3 sum_c = Vec3::Zero();
+  double sum_w = 0, sum_len = 0;
+  int n_len = 0;
+  for (const index_t t : ball) {
+    const Tet& T = mesh.tet(t);
+    const Vec3 &a = mesh.point(T[0]), &b = mesh.point(T[1]), &cc = mesh.point(T[2]), &d = mesh.point(T[3]);
+    const Vec3 bary = (a + b + cc + d) / 4;
+    const double volume = tet_signed_volume(a, b, cc, d);
+    double rho = 1;
+    if (options.density)
+      rho = options.density(bary);
+    else if (vertex_rho)
+      rho = (options.vertex_density[T[0]] + options.vertex_density[T[1]] + options.vertex_density[T[2]] +
+             options.vertex_density[T[3]]) / 4;
+    for (const index_t w : T)
+      if (w != v) {
+        sum_len += (mesh.point(w) - x).norm();
+        ++n_len;
+      }
+    // Barycentre for tets with a boundary vertex (Fig. 2.33 (b)) and
+    // for tets that are not Delaunay (2.6.5.4); circumcentre otherwise.
+    Vec3 centre = bary;
+    if (circumcentre[t] && !tet_circumcentre(a, b, cc, d, &centre)) centre = bary;
+    // Eq. 2.31 with rho = 1 (volume weights), not the equal weights
+    // of Eq. 2.34: measured, the mean stretch is about 0.005 lower
+    // and the minimum mixed, but equal weights left fandisk (inner
+    // vertices jittered, smoothing and flips only) at 0.178, below
+    // the 0.2 goal, against 0.207.
+    const double weight = volume * rho;
+    sum_c += weight * centre;
+    sum_w += weight;
+  }
+  if (!(sum_w > 0) || n_len == 0) return false;
+  *step = sum_c / sum_w - x;
+  *mean_length = sum_len / n_len;
+  return true;
+}
+
+/// OdtSmoothOptions::edge_density: the step from v to the rest position of
+/// the springs along its edges (each neighbour once); false when no edge
+/// has a length and a density.
+bool spring_rest(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v,
+                 const std::function<double(const Vec3&)>& density, std::vector<index_t>& neighbours, Vec3* step,
+                 double* mean_length) {
+  neighbours.clear();
+  for (const index_t t : ball)
+    for (const index_t w : mesh.tet(t))
+      if (w != v && std::find(neighbours.begin(), neighbours.end(), w) == neighbours.end()) neighbours.push_back(w);
+  const Vec3 x = mesh.point(v);
+  Vec3 sum = Vec3::Zero();
+  double sum_len = 0;
+  int n = 0;
+  for (const index_t w : neighbours) {
+    const Vec3& q = mesh.point(w);
+    const double length = (x - q).norm(), rho = density(0.5 * (x + q));
+    if (!(length > 0) || !(rho > 0)) continue;
+    sum += q + (x - q) / (rho * length);
+    sum_len += length;
+    ++n;
+  }
+  if (n == 0) return false;
+  *step = sum / n - x;
+  *mean_length = sum_len / n;
+  return true;
+}
+
 }  // namespace
 
 OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options) {
@@ -180,7 +254,7 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
       const index_t t = needed_list[i];
       bool boundary = false;
       for (const index_t w : mesh.tet(t)) boundary = boundary || mesh.on_boundary(w);
-      circumcentre[t] = !boundary && locally_delaunay(mesh, t);
+      circumcentre[t] = !options.edge_density && !boundary && locally_delaunay(mesh, t);
       if (keep_stretch) {
         const Tet& T = mesh.tet(t);
         stretch_of_tet[t] = tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3]));
@@ -194,7 +268,7 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
       const long first = static_cast<long>(cb.colour_start[c]), last = static_cast<long>(cb.colour_start[c + 1]);
 #pragma omp parallel if (last - first >= 2048)
       {
-        std::vector<index_t> ball;
+        std::vector<index_t> ball, neighbours;
         std::vector<double> new_stretch;
 #pragma omp for schedule(dynamic, 256) reduction(max : max_step) reduction(+ : moved, refused, halvings)
         for (long j = first; j < last; ++j) {
@@ -204,42 +278,12 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
                       cb.ball_tets.begin() + static_cast<std::ptrdiff_t>(cb.ball_start[j + 1]));
           const Vec3 x = mesh.point(v);
 
-          // Eq. 2.31: density-weighted mean of the centres c_tau.
-          Vec3 sum_c = Vec3::Zero();
-          double sum_w = 0, sum_len = 0;
-          int n_len = 0;
-          for (const index_t t : ball) {
-            const Tet& T = mesh.tet(t);
-            const Vec3 &a = mesh.point(T[0]), &b = mesh.point(T[1]), &cc = mesh.point(T[2]), &d = mesh.point(T[3]);
-            const Vec3 bary = (a + b + cc + d) / 4;
-            const double volume = tet_signed_volume(a, b, cc, d);
-            double rho = 1;
-            if (options.density)
-              rho = options.density(bary);
-            else if (vertex_rho)
-              rho = (options.vertex_density[T[0]] + options.vertex_density[T[1]] + options.vertex_density[T[2]] +
-                     options.vertex_density[T[3]]) / 4;
-            for (const index_t w : T)
-              if (w != v) {
-                sum_len += (mesh.point(w) - x).norm();
-                ++n_len;
-              }
-            // Barycentre for tets with a boundary vertex (Fig. 2.33 (b)) and
-            // for tets that are not Delaunay (2.6.5.4); circumcentre otherwise.
-            Vec3 centre = bary;
-            if (circumcentre[t] && !tet_circumcentre(a, b, cc, d, &centre)) centre = bary;
-            // Eq. 2.31 with rho = 1 (volume weights), not the equal weights
-            // of Eq. 2.34: measured, the mean stretch is about 0.005 lower
-            // and the minimum mixed, but equal weights left fandisk (inner
-            // vertices jittered, smoothing and flips only) at 0.178, below
-            // the 0.2 goal, against 0.207.
-            const double weight = volume * rho;
-            sum_c += weight * centre;
-            sum_w += weight;
-          }
-          if (!(sum_w > 0) || n_len == 0) continue;
-          const Vec3 step = sum_c / sum_w - x;
-          const double length = sum_len / n_len;
+          Vec3 step;
+          double length;
+          if (options.edge_density
+                  ? !spring_rest(mesh, ball, v, options.edge_density, neighbours, &step, &length)
+                  : !odt_centre_step(mesh, ball, v, circumcentre, options, vertex_rho, &step, &length))
+            continue;
           const double relative = step.norm() / length;
           if (!std::isfinite(relative) || relative <= options.tolerance * 1e-3) continue;  // already there
 
@@ -254,6 +298,8 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
           if (keep_stretch) {
             double old_min = std::numeric_limits<double>::infinity();
             for (const index_t t : ball) old_min = std::min(old_min, stretch_of_tet[t]);
+            if (options.guard_drop > 0)
+              old_min = std::min(old_min, std::max(options.guard_keep, (1 - options.guard_drop) * old_min));
             alpha = move_with_step_halving(
                 mesh, ball, v, options.max_halvings, true, options.quality_floor, old_min, candidate,
                 [](const Vec3&) { return true; }, &new_stretch, &h);

@@ -45,6 +45,17 @@ struct OdtSmoothOptions {
   /// blocks moves that ODT needs (fandisk, inner vertices jittered: min
   /// stretch 0.21 without, 0.17 with 0.3); the boundary phases use it.
   double quality_floor = 0;
+  /// Beyond the thesis (relax_edge_lengths): when set, a vertex moves toward
+  /// the rest position of springs along its edges instead of Eq. 2.31's
+  /// centre, each spring as long as 1 / edge_density at the edge's midpoint:
+  ///   x_new = (1 - a) x + a mean_w (p_w + (x - p_w) / (rho_e |x - p_w|)).
+  std::function<double(const Vec3&)> edge_density;
+  /// With the guard: a ball whose minimum stretch is above guard_keep may
+  /// lose up to this fraction of it, down to guard_keep (0: the minimum may
+  /// not drop). The springs of edge_density do not shape tets; a strict
+  /// guard refused 60% of their moves.
+  double guard_drop = 0;
+  double guard_keep = 0.35;
 };
 
 struct OdtSmoothReport {

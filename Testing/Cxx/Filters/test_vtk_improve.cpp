@@ -862,6 +862,7 @@ TEST(Improve, XmlDefaultsEqualCxxDefaults)
     { "SetDensityControl", flag(d->GetDensityControl()) },
     { "SetAccuracyControl", flag(d->GetAccuracyControl()) },
     { "SetFlips", flag(d->GetFlips()) },
+    { "SetRelaxEdgeLengths", flag(d->GetRelaxEdgeLengths()) },
     { "SetMoveUnfittedRegions", flag(d->GetMoveUnfittedRegions()) },
     { "SetOdtIterations",
       { double(d->GetOdtIterations()), double(d->GetOdtIterationsMinValue()),
