@@ -150,7 +150,8 @@ public:
   ///@{
   /**
    * ODT sweeps per step of the loop (thesis: two or three). In [1, 100].
-   * Default 2.
+   * Default 2. With RelaxEdgeLengths on, the finishing round makes one ODT
+   * sweep and then this many edge-length relaxation sweeps.
    */
   vtkSetClampMacro(OdtIterations, int, 1, 100);
   vtkGetMacro(OdtIterations, int);
