@@ -340,8 +340,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
           continue;
         }
       }
-      if (options.touched)
-        for (const index_t w : {v, top.a, top.b}) touch(options.touched, w);
+      for (const index_t w : {v, top.a, top.b}) touch(options.touched, w);
       for (const index_t w : e.opposite) touch(options.touched, w);
       if (shorts) {
         for (const index_t w : {top.a, top.b}) created.push_back({std::min(v, w), std::max(v, w)});

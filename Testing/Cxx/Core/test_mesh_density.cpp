@@ -394,22 +394,32 @@ TEST(MeshDensity, SplitsAndCollapsesDoNotDependOnThreadCount) {
   }
 }
 
-/// A jittered Kuhn cube (8 cells) stretched by `factor` along x, and the
-/// target field that asks for its original densities there.
+/// A jittered Kuhn cube (n cells, 8 by default) whose part x > from_x is
+/// stretched by `factor` along x (from_x = 0: all of it), and the target
+/// field that asks for its original densities there.
 struct StretchedField {
   TestMesh ref;
   std::vector<Vec3> deformed;
   DensityGrid grid;
 };
 
-StretchedField stretched_field(double factor) {
+StretchedField stretched_field(double factor, int n = 8, double jitter = 0.1, std::uint64_t seed = 11,
+                               double from_x = 0.0) {
   StretchedField out;
-  out.ref = make_cube_mesh(8, 0.1, 11);
+  out.ref = make_cube_mesh(n, jitter, seed);
   const std::vector<double> rho = vertex_density(out.ref.points, out.ref.tets);
   out.deformed = out.ref.points;
-  for (Vec3& p : out.deformed) p.x() *= factor;
+  for (Vec3& p : out.deformed)
+    if (p.x() > from_x) p.x() = from_x + factor * (p.x() - from_x);
   out.grid.build(out.deformed, out.ref.tets, rho, 0.5 * mean_edge_length(out.ref.points, out.ref.tets));
   return out;
+}
+
+/// The deformed cube of `field` as a TetMesh with the cube's face regions.
+void build_deformed(const StretchedField& field, TetMesh* mesh) {
+  BuildOptions build;
+  build.face_regions = field.ref.face_regions;
+  ASSERT_TRUE(mesh->build(field.deformed, field.ref.tets, build).ok);
 }
 
 TEST(MeshDensity, CollapsePassTakesTheSplitPassScan) {
@@ -588,7 +598,6 @@ TEST(MeshDensity, SplitPassMergesNearbyNewMidpoints) {
 // vertices unmarked (the jitter gives it a few operations of its own).
 TEST(MeshDensity, TouchedMarksEveryVertexAnOperationChanged) {
   const TestMesh ref = make_cube_mesh(8, 0.1, 11);
-  const std::vector<double> rho = vertex_density(ref.points, ref.tets);
   const auto neighbours_of = [](const std::vector<Tet>& tets, std::size_t n) {
     std::vector<std::vector<index_t>> nb(n);
     for (const Tet& t : tets)
@@ -603,15 +612,12 @@ TEST(MeshDensity, TouchedMarksEveryVertexAnOperationChanged) {
   };
   const std::vector<std::vector<index_t>> before = neighbours_of(ref.tets, ref.points.size());
   for (const double factor : {2.0, 0.5}) {
-    std::vector<Vec3> deformed = ref.points;
-    for (Vec3& p : deformed)
-      if (p.x() > 0.5) p.x() = 0.5 + factor * (p.x() - 0.5);
-    DensityGrid grid;
-    ASSERT_TRUE(grid.build(deformed, ref.tets, rho, 0.5 * mean_edge_length(ref.points, ref.tets)));
+    const StretchedField field = stretched_field(factor, 8, 0.1, 11, 0.5);
+    const std::vector<Vec3>& deformed = field.deformed;
+    const DensityGrid& grid = field.grid;
+    ASSERT_FALSE(grid.empty());
     TetMesh mesh;
-    BuildOptions build;
-    build.face_regions = ref.face_regions;
-    ASSERT_TRUE(mesh.build(deformed, ref.tets, build).ok);
+    build_deformed(field, &mesh);
     std::vector<char> touched;
     DensityControlOptions options;
     options.touched = &touched;
@@ -651,16 +657,11 @@ TEST(MeshDensity, TouchedMarksEveryVertexAnOperationChanged) {
 // its boundary where it was, the topology is kept and the worst tet is no
 // worse than min(before, 0.35), as the guard promises.
 TEST(MeshDensity, RelaxEdgeLengthsLowersTheDensityError) {
-  const TestMesh ref = make_cube_mesh(10, 0.2, 5);
-  const std::vector<double> rho = vertex_density(ref.points, ref.tets);
-  std::vector<Vec3> deformed = ref.points;
-  for (Vec3& p : deformed) p.x() *= 2.0;
-  DensityGrid grid;
-  ASSERT_TRUE(grid.build(deformed, ref.tets, rho, 0.5 * mean_edge_length(ref.points, ref.tets)));
+  const StretchedField field = stretched_field(2.0, 10, 0.2, 5);
+  const DensityGrid& grid = field.grid;
+  ASSERT_FALSE(grid.empty());
   TetMesh mesh;
-  BuildOptions build;
-  build.face_regions = ref.face_regions;
-  ASSERT_TRUE(mesh.build(deformed, ref.tets, build).ok);
+  build_deformed(field, &mesh);
   control_mesh_density(mesh, grid, DensityControlOptions{});
   const CompactMesh before = mesh.compact();
   const double error_before = mean_density_error(before.points, before.tets, grid, DensityLookup::Cell).mean;
