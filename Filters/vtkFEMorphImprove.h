@@ -123,12 +123,15 @@ public:
   ///@{
   /**
    * Beyond the thesis: with a density target, the finishing round smooths the
-   * inner vertices with one ODT sweep and then OdtIterations sweeps that pull
-   * each vertex's edges toward the target length 1 / rho_GC (springs; no
-   * tet inverts and no ball's worst tet falls below min(its stretch, 0.35)
-   * or loses more than 10%). Benchmark: density error (Eq. 2.35) 0.164 ->
-   * 0.153 (x1.6) and 0.167 -> 0.156 (x3), mean stretch +0.013, minimum
-   * unchanged, 0.2-0.5 s more. Default on.
+   * inner vertices with one ODT sweep, then moves the surface vertices along
+   * their fitted surfaces for OdtIterations sweeps and the inner vertices for
+   * one sweep more, each toward where its edges have the target length
+   * 1 / rho_GC (springs; no tet inverts and no ball's worst tet falls below
+   * min(its stretch, 0.35) or loses more than 10%; surface vertices stay on
+   * their surface and within the acceptable geometric error). Benchmark:
+   * density error (Eq. 2.35) 0.164 -> 0.148 (x1.6) and 0.167 -> 0.150 (x3),
+   * mean stretch +0.02, minimum stretch 0.304 -> 0.319 at x3, 0.5-0.9 s
+   * more. Default on.
    */
   vtkSetMacro(RelaxEdgeLengths, vtkTypeBool);
   vtkGetMacro(RelaxEdgeLengths, vtkTypeBool);
@@ -151,7 +154,8 @@ public:
   /**
    * ODT sweeps per step of the loop (thesis: two or three). In [1, 100].
    * Default 2. With RelaxEdgeLengths on, the finishing round makes one ODT
-   * sweep and then this many edge-length relaxation sweeps.
+   * sweep and then this many edge-length relaxation sweeps of the surface
+   * vertices and one more of the inner vertices.
    */
   vtkSetClampMacro(OdtIterations, int, 1, 100);
   vtkGetMacro(OdtIterations, int);

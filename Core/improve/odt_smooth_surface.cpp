@@ -4,6 +4,7 @@
 #include "improve/control_shape_accuracy.h"
 #include "improve/ball_quality.h"
 #include "improve/odt_smooth_surface.h"
+#include "improve/relax_edge_lengths.h"
 
 #include "improve/boundary_geometry.h"
 #include "mesh/tet_mesh.h"
@@ -336,6 +337,7 @@ struct SurfaceScratch {
   std::vector<std::uint8_t> has_opposite;
   std::vector<int> old_sign;
   std::vector<double> new_stretch;  // the ball's stretches after a move
+  std::vector<index_t> neighbours;  // the ball's vertices but v (edge_density)
   Chart chart;
   SurfacePrimitive tangent_plane;
 };
@@ -426,13 +428,15 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
         }
       }
 
-      // Step 2: Eq. 2.34, the unweighted mean of the centres c_tau.
+      // Step 2: Eq. 2.34, the unweighted mean of the centres c_tau (or the
+      // springs' rest position, edge_density).
       Vec2 sum = Vec2::Zero();
       double ring_area = 0;
       for (std::size_t k = 0; k < ring.size(); ++k) {
         const Vec2 &p = link2[ring_local[k][0]], &q = link2[ring_local[k][1]];
         old_sign[k] = sign(cross2(p - x2, q - x2));
         ring_area += cross2(p - x2, q - x2);
+        if (options.edge_density) continue;
         Vec2 centre = (x2 + p + q) / 3;
         const bool region_boundary = mesh.vertex_class(ring[k][0]) != VertexClass::Surface ||
                                      mesh.vertex_class(ring[k][1]) != VertexClass::Surface;
@@ -453,7 +457,12 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
       // (a sliver the chart's distortion turned over) is not held to it.
       const int orientation = sign(ring_area);
       for (int& s : old_sign) s = s == orientation ? s : 0;
-      const Vec2 step = sum / static_cast<double>(ring.size()) - x2;
+      Vec2 step = sum / static_cast<double>(ring.size()) - x2;
+      if (options.edge_density) {
+        Vec3 rest;
+        if (!spring_rest(mesh, ball, v, options.edge_density, sc.neighbours, &rest)) return -1;
+        step = chart.map(x + rest) - x2;  // the step's part along the surface
+      }
       const double relative = step.norm() / len;
       if (!std::isfinite(relative) || relative <= options.tolerance * 1e-3) return -1;  // already there
 
@@ -467,6 +476,8 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
           ++cache_checked;
           if (old_min != ball_min_stretch(mesh, ball, v, x)) ++cache_disagreements;
         }
+        if (options.guard_drop > 0)
+          old_min = std::min(old_min, std::max(options.guard_keep, (1 - options.guard_drop) * old_min));
       }
       const bool accepted =
           move_with_step_halving(

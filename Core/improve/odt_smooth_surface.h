@@ -6,6 +6,7 @@
 #include "improve/odt_smooth_volume.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace femorph {
@@ -35,6 +36,15 @@ struct BoundarySmoothOptions {
   /// when given, a move may not take a boundary edge of a curved region
   /// beyond it (chords_within_error()). Null: not checked.
   const std::vector<double>* acceptable_error = nullptr;
+  /// Beyond the thesis (relax_edge_lengths): when set, a vertex moves toward
+  /// the rest position of springs along all its edges, each as long as
+  /// 1 / edge_density at the edge's midpoint (OdtSmoothOptions::edge_density),
+  /// the step taken in the parameter plane instead of Eq. 2.34's.
+  std::function<double(const Vec3&)> edge_density;
+  /// With the guard: a ball above guard_keep may lose this fraction of its
+  /// minimum stretch, down to guard_keep (OdtSmoothOptions::guard_drop).
+  double guard_drop = 0;
+  double guard_keep = 0.35;
   /// For tests (odt_smooth_surface): each ball minimum the quality guard
   /// reads from the stretches kept per tet is also computed from the mesh;
   /// OdtSmoothReport counts both and the disagreements.

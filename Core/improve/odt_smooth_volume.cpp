@@ -4,6 +4,7 @@
 #include "improve/odt_smooth_volume.h"
 
 #include "improve/locally_delaunay.h"
+#include "improve/relax_edge_lengths.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
 
@@ -170,34 +171,6 @@ bool odt_centre_step(const TetMesh& mesh, const std::vector<index_t>& ball, inde
   if (!(sum_w > 0) || n_len == 0) return false;
   *step = sum_c / sum_w - x;
   *mean_length = sum_len / n_len;
-  return true;
-}
-
-/// OdtSmoothOptions::edge_density: the step from v to the rest position of
-/// the springs along its edges (each neighbour once); false when no edge
-/// has a length and a density.
-bool spring_rest(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v,
-                 const std::function<double(const Vec3&)>& density, std::vector<index_t>& neighbours, Vec3* step,
-                 double* mean_length) {
-  neighbours.clear();
-  for (const index_t t : ball)
-    for (const index_t w : mesh.tet(t))
-      if (w != v && std::find(neighbours.begin(), neighbours.end(), w) == neighbours.end()) neighbours.push_back(w);
-  const Vec3 x = mesh.point(v);
-  Vec3 sum = Vec3::Zero();
-  double sum_len = 0;
-  int n = 0;
-  for (const index_t w : neighbours) {
-    const Vec3& q = mesh.point(w);
-    const double length = (x - q).norm(), rho = density(0.5 * (x + q));
-    if (!(length > 0) || !(rho > 0)) continue;
-    sum += q + (x - q) / (rho * length);
-    sum_len += length;
-    ++n;
-  }
-  if (n == 0) return false;
-  *step = sum / n - x;
-  *mean_length = sum_len / n;
   return true;
 }
 

@@ -35,10 +35,11 @@ struct PhasedOdtOptions {
   /// (Fig. 2.45) in the surface phase.
   bool flips = true;
   /// Beyond the thesis: the finishing round ends with odt_iterations sweeps
-  /// of relax_edge_lengths (edges pulled toward 1 / rho_GC), after one ODT
+  /// of relax_surface_edge_lengths (with smooth_surfaces) and one more of
+  /// relax_edge_lengths (edges pulled toward 1 / rho_GC), after one ODT
   /// sweep instead of odt_iterations. Benchmark: density error (Eq. 2.35)
-  /// 0.164 -> 0.153 at x1.6 and 0.167 -> 0.156 at x3, mean stretch +0.013,
-  /// the minimum the same, 0.2-0.5 s more. Only with a density target.
+  /// 0.164 -> 0.148 at x1.6 and 0.167 -> 0.150 at x3, mean stretch +0.02,
+  /// 0.5-0.9 s more. Only with a density target.
   bool relax_edge_lengths = true;
   /// ODT sweeps per step of the loop (thesis: "two or three times"). 2: a
   /// third changed the benchmark's minimum and mean stretch by < 0.012 and

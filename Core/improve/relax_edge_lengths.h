@@ -7,10 +7,12 @@
 #include "improve/odt_smooth_volume.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace femorph {
 
+struct BoundaryGeometry;
 class DensityGrid;
 class TetMesh;
 
@@ -24,7 +26,21 @@ struct RelaxEdgeLengthsOptions {
   double guard_drop = 0.1;
   double guard_keep = 0.35;
   int max_halvings = 3;
+  /// relax_surface_edge_lengths only: no tet of a ball at or above this
+  /// stretch falls below it (BoundarySmoothOptions::quality_floor), and a
+  /// move keeps the chords of curved regions within these acceptable errors
+  /// (2.6.4; null: not checked).
+  double quality_floor = 0.3;
+  const std::vector<double>* acceptable_error = nullptr;
 };
+
+/// OdtSmoothOptions::edge_density: the step from v to the rest position of
+/// the springs along its edges (each neighbour of v's ball once), and the
+/// edges' mean length when asked; false when no edge has a length and a
+/// density. neighbours: scratch.
+bool spring_rest(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v,
+                 const std::function<double(const Vec3&)>& density, std::vector<index_t>& neighbours, Vec3* step,
+                 double* mean_length = nullptr);
 
 /// Moves the free inner vertices toward their springs' rest position
 /// (OdtSmoothOptions::edge_density with rho_GC of `grid`), with the step
@@ -32,5 +48,16 @@ struct RelaxEdgeLengthsOptions {
 /// ball's minimum stretch drops. Deterministic, independent of the number
 /// of threads.
 OdtSmoothReport relax_edge_lengths(TetMesh& mesh, const DensityGrid& grid, const RelaxEdgeLengthsOptions& options);
+
+/// The same for the surface vertices (class Surface, one fitted or kept
+/// region): each moves toward its springs' rest position along the surface,
+/// the step taken in the region's parameter plane and the point projected
+/// back (odt_smooth_surface with BoundarySmoothOptions::edge_density), so
+/// it stays on the fitted surface. Curve and corner vertices do not move.
+/// The inner vertices' relaxation cannot lengthen the surface edges, which
+/// Eq. 2.35 finds the furthest from the field (x3 benchmark: 0.19 against
+/// 0.14 inside).
+OdtSmoothReport relax_surface_edge_lengths(TetMesh& mesh, const BoundaryGeometry& geometry, const DensityGrid& grid,
+                                           const RelaxEdgeLengthsOptions& options);
 
 }  // namespace femorph
