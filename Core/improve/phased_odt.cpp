@@ -315,23 +315,28 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
       Clock::time_point t = Clock::now();
 
       // (B) degenerated and inverted element removal (2.6.2).
+      std::vector<char> touched;  // by this loop's operations (boundary phases)
+      bool inverted_removed = false;  // not marked in `touched`
       if (options.remove_degenerate) {
         DegenerateRemovalOptions dro;
         dro.stretch_threshold = options.degenerate_threshold;
         dro.project = project;
         dro.vertex_mask = movable;
+        if (phase < 2) dro.touched = &touched;
         const DegenerateRemovalStats ds = remove_degenerate_elements(mesh, dro);
         stats.removed_slivers += ds.removed_slivers;
         stats.removed_caps += ds.removed_caps;
         stats.removed_spades += ds.removed_spades;
       }
-      if (options.remove_inverted && count_inverted(mesh) > 0) remove_inverted();
+      if (options.remove_inverted && count_inverted(mesh) > 0) {
+        remove_inverted();
+        inverted_removed = true;
+      }
       t = lap(Step::Removal, t);
 
       // (C) mesh density control (2.6.3), one split and one collapse pass
       // per loop, on the edges of this phase.
       std::size_t operations = 0;
-      std::vector<char> touched;  // by this loop's density and accuracy operations (boundary phases)
       if (density) {
         DensityControlOptions dco;
         dco.split_threshold = options.split_threshold;
@@ -395,7 +400,9 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         // its few operations (below min_operation_fraction of the tets)
         // changed the mesh; the loop before smoothed the rest (x3 benchmark:
         // the surface phase 1.4 -> 1.0 s, minimum stretch 0.302 -> 0.319).
-        if (last_loop && loop > 0) {
+        // The removal (B), density and accuracy operations mark where; the
+        // inverted element removal does not, so after it all are smoothed.
+        if (last_loop && loop > 0 && !inverted_removed) {
           bso.vertex_mask.assign(static_cast<std::size_t>(mesh.vertex_slots()), 0);
           for (std::size_t v = 0; v < bso.vertex_mask.size(); ++v)
             bso.vertex_mask[v] = v < touched.size() && touched[v] &&

@@ -162,6 +162,13 @@ class DegenerateRemover {
     return m_.orientation(t) >= 0;
   }
 
+  /// DegenerateRemovalOptions::touched.
+  void mark(index_t v) const {
+    if (!opt_.touched) return;
+    if (static_cast<std::size_t>(v) >= opt_.touched->size()) opt_.touched->resize(static_cast<std::size_t>(v) + 1, 0);
+    (*opt_.touched)[static_cast<std::size_t>(v)] = 1;
+  }
+
   /// Edge split at p; a new boundary vertex is projected when asked.
   bool split(index_t a, index_t b, const Vec3& p, index_t* mid) {
     if (m_.split_edge(a, b, &p, mid) != OpStatus::Ok) return false;
@@ -192,6 +199,7 @@ class DegenerateRemover {
     if (!(collapse_min_stretch(m_, plan.keep, plan.remove, pos) > worse_than_)) return false;
     if (m_.collapse_edge(plan.keep, plan.remove, &pos) != OpStatus::Ok) return false;
     affected_.insert(affected_.end(), m_.touched_tets().begin(), m_.touched_tets().end());
+    mark(plan.remove);  // the others are in the tets around plan.keep
     return true;
   }
 
@@ -329,6 +337,7 @@ class DegenerateRemover {
       affected_.erase(std::unique(affected_.begin(), affected_.end()), affected_.end());
       for (index_t t : affected_) {
         if (!m_.tet_alive(t)) continue;
+        for (const index_t v : m_.tet(t)) mark(v);
         double qa;
         if (is_target(t, &qa)) heap.push({qa, t, m_.tet(t)});
       }

@@ -73,6 +73,10 @@ struct DegenerateRemovalOptions {
   /// vertices are flagged are removed (vertices a split creates count as
   /// flagged). Empty: every tet.
   std::vector<std::uint8_t> vertex_mask;
+  /// When set: the vertices of every tet an accepted operation made or
+  /// changed are set to 1 (the vector grows as needed), as
+  /// DensityControlOptions::touched.
+  std::vector<char>* touched = nullptr;
 };
 
 struct DegenerateRemovalStats {

@@ -309,6 +309,52 @@ TEST(DegenerateRemoval, CaseCSweep) {
   EXPECT_GT(worst, 0.0);
 }
 
+// DegenerateRemovalOptions::touched marks the vertices of every tet an
+// operation made or changed (Improve smooths only there in a boundary
+// phase's last loop): on slid cubes, every unmarked vertex slot is still
+// alive with its position and its neighbours, and many stay unmarked.
+TEST(DegenerateRemoval, TouchedMarksEveryVertexAnOperationChanged) {
+  const auto neighbours_of = [](const TetMesh& m) {
+    std::vector<std::vector<index_t>> nb(static_cast<std::size_t>(m.vertex_slots()));
+    for (index_t t = 0; t < m.tet_slots(); ++t) {
+      if (!m.tet_alive(t)) continue;
+      for (const index_t a : m.tet(t))
+        for (const index_t b : m.tet(t))
+          if (a != b) nb[static_cast<std::size_t>(a)].push_back(b);
+    }
+    for (auto& v : nb) {
+      std::sort(v.begin(), v.end());
+      v.erase(std::unique(v.begin(), v.end()), v.end());
+    }
+    return nb;
+  };
+  std::size_t operations = 0;
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    TetMesh m = build(make_slid_cube(0.9, seed), /*allow_inverted=*/true);
+    remove_inverted_elements(m);
+    const TetMesh before = m;
+    const std::vector<std::vector<index_t>> nb_before = neighbours_of(m);
+    std::vector<char> touched;
+    DegenerateRemovalOptions options;
+    options.touched = &touched;
+    const DegenerateRemovalStats st = remove_degenerate_elements(m, options);
+    operations += st.removed_slivers + st.removed_caps + st.removed_spades;
+    const std::vector<std::vector<index_t>> nb_after = neighbours_of(m);
+    std::size_t unmarked = 0, alive = 0;
+    for (index_t v = 0; v < before.vertex_slots(); ++v) {
+      if (!before.vertex_alive(v)) continue;
+      ++alive;
+      if (static_cast<std::size_t>(v) < touched.size() && touched[v]) continue;
+      ++unmarked;
+      ASSERT_TRUE(m.vertex_alive(v)) << "seed " << seed << ": vertex " << v << " removed but not marked";
+      EXPECT_EQ(m.point(v), before.point(v)) << "seed " << seed << ": vertex " << v << " moved, not marked";
+      EXPECT_EQ(nb_after[v], nb_before[v]) << "seed " << seed << ": vertex " << v << " has other neighbours, not marked";
+    }
+    EXPECT_GT(unmarked, alive / 2) << "seed " << seed;
+  }
+  EXPECT_GT(operations, 0u);
+}
+
 TEST(DegenerateRemoval, CaseCDeterministic) {
   const CaseCResult a = run_case_c(0.9, 5);
   const CaseCResult b = run_case_c(0.9, 5);
