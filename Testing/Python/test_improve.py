@@ -16,7 +16,8 @@ without the filter or the core:
     exactly two tets and the boundary a closed 2-manifold of faces;
   - Stretch array = numpy stretch (thesis Eq. 1.1) within 1e-9;
   - minimum stretch >= 0.3 (a) or >= 0.2 (b), mean stretch >= the
-    undeformed mesh's; (b) the density error (Eq. 2.35) lowered;
+    undeformed mesh's; (b) the density error (Eq. 2.35) lowered, to at
+    most 0.15 (issue 5's goal) for the issue's x1.6 and x3;
   - the part's volume unchanged within 1e-3 relative (curved faces are
     re-sampled) -- within 1e-9 where every face is a plane or left fixed;
   - field data: ImproveStretch matches the numpy min/mean, counts present;
@@ -106,8 +107,9 @@ def jitter_inner(points, tets, fraction, seed):
     return p
 
 
-def run(name, grid, reference, min_goal, undeformed_mean, planar_volume):
-    """Segment + Improve through the plugin, then the numpy checks."""
+def run(name, grid, reference, min_goal, undeformed_mean, planar_volume, density_goal=None):
+    """Segment + Improve through the plugin, then the numpy checks; with
+    density_goal, the density error after at most that."""
     source = TrivialProducer()
     source.GetClientSideObject().SetOutput(grid)
     segment = FEMorphSegment(Input=source)  # noqa: F821 (defined by LoadPlugin)
@@ -149,6 +151,8 @@ def run(name, grid, reference, min_goal, undeformed_mean, planar_volume):
         before_error, after_error = density.GetComponent(0, 0), density.GetComponent(0, 1)
         print("  %-28s density error %.3f -> %.3f" % ("", before_error, after_error))
         assert after_error < before_error, "%s: density error %.3f -> %.3f" % (name, before_error, after_error)
+        if density_goal is not None:
+            assert after_error <= density_goal, "%s: density error %.3f > %.2f" % (name, after_error, density_goal)
     assert q.min() >= min_goal, "%s: min stretch %.3f < %.2f" % (name, q.min(), min_goal)
     assert q.mean() >= undeformed_mean, "%s: mean stretch %.4f < undeformed %.4f" % (
         name, q.mean(), undeformed_mean)
@@ -176,7 +180,7 @@ def main():
     z = p0[:, 2]
     stretched = p0.copy()
     stretched[:, 2] = np.where(z <= 20, z, np.where(z >= 35, z + 0.6 * 15, 20 + 1.6 * (z - 20)))
-    run("boss_block (b) x1.6", grid_from(stretched, t0), boss, 0.2, undeformed, False)
+    run("boss_block (b) x1.6", grid_from(stretched, t0), boss, 0.2, undeformed, False, density_goal=0.15)
     # Beyond the issue's cases: the boss made lower (x0.5: the density
     # control collapses) and much higher (x5: edges 5 times their target).
     for factor in (0.5, 5.0):
@@ -211,7 +215,8 @@ def main():
         for factor in (1.6, 3.0):
             longer = ps.copy()
             longer[:, 0] = np.where(x <= 32, x, np.where(x >= 48, x + (factor - 1) * 16, 32 + factor * (x - 32)))
-            run("welle_gearbox_shaft (b) x%.1f" % factor, grid_from(longer, ts), shaft, 0.2, mean, False)
+            run("welle_gearbox_shaft (b) x%.1f" % factor, grid_from(longer, ts), shaft, 0.2, mean, False,
+                density_goal=0.15)
     else:
         print("  welle_gearbox_shaft: skipped (not meshed)")
     if args.onshape and os.path.exists(args.onshape):
