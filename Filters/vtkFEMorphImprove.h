@@ -178,6 +178,9 @@ public:
    * when it is at most CollapseThreshold (beta2, default 0.67). The loop
    * converges when beta1 > 2 beta2 and 1 + beta2 / 2 < beta1; other values
    * are an error. SplitThreshold in [1, 100], CollapseThreshold in [0, 1].
+   * Beyond the thesis, a long edge is split at its midpoint and its halves
+   * again while long, but at a third when its length times the density is
+   * in [2.5, 3.5), where three pieces are nearer the target than two or four.
    */
   vtkSetClampMacro(SplitThreshold, double, 1.0, 100.0);
   vtkGetMacro(SplitThreshold, double);

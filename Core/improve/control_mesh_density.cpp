@@ -138,8 +138,10 @@ struct SplitEval {
   HeapEdge entry{};
   bool is_edge = false, accepted = false, boundary = false;
   std::vector<index_t> ring, opposite;  // as edge_ring_with_vertices lists them
-  // Length and scaled length of (a, m) and (b, m), m the midpoint: the
-  // halves the split pass requeues when long, looked up in parallel.
+  // The split point m (the midpoint, or a third: split_in_thirds), and the
+  // length and scaled length of (a, m) and (b, m): the parts the split pass
+  // requeues when long, looked up in parallel.
+  Vec3 point = Vec3::Zero();
   double half_length[2] = {0, 0}, half_scaled[2] = {0, 0};
   // The vertex the midpoint merges into (plan_merge), or kInvalidIndex, and
   // that vertex's new neighbours.
@@ -210,22 +212,43 @@ void evaluate_split(const TetMesh& mesh, const DensityGrid& grid, const DensityC
   const index_t t0 = mesh.find_edge_tet(a, b, e.entry.tag, marks);
   e.is_edge = t0 >= 0 && mesh.edge_ring_with_vertices(a, b, e.ring, e.opposite, &e.boundary, t0);
   if (!e.is_edge) return;
-  const Vec3 m = 0.5 * (mesh.point(a) + mesh.point(b));
+  // The split points to try: a third (split_in_thirds), then the midpoint
+  // when the third's tets fall below the floor.
+  const Vec3 mid = 0.5 * (mesh.point(a) + mesh.point(b));
+  Vec3 points[2];
+  int count = 0;
+  const auto made_here = [&made](index_t w) { return static_cast<std::size_t>(w) < made.size() && made[w]; };
+  if (options.split_in_thirds && options.resplit_halves && !made_here(a) && !made_here(b)) {
+    const double scaled = e.entry.length * grid.density_at(mid, options.lookup);
+    // n pieces of an edge at r / rho are |n / r - 1| off the target:
+    // three are nearest for r in [2.5, 3.5).
+    if (scaled >= 2.5 && scaled < 3.5) points[count++] = mesh.point(a) + (mesh.point(b) - mesh.point(a)) / 3.0;
+  }
+  points[count++] = mid;
+  double old_min = std::numeric_limits<double>::infinity();
+  bool old_known = false;
+  for (int c = 0; c < count; ++c) {
+    const Vec3& m = points[c];
+    double new_min = std::numeric_limits<double>::infinity();
+    for (const index_t t : e.ring) {
+      new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, a, m));
+      new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, b, m));
+    }
+    if (new_min < options.min_stretch && !old_known) {  // the tets as they are matter only then
+      for (const index_t t : e.ring)
+        old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, m));
+      old_known = true;
+    }
+    e.accepted = !below_floor(new_min, options.split_relative_floor * old_min, options.min_stretch);
+    e.point = m;
+    if (e.accepted) break;
+  }
   for (int k = 0; k < 2; ++k) {  // as scaled_length(mesh, grid, lookup, end, m) computes them
     const Vec3& p = mesh.point(k == 0 ? a : b);
-    e.half_length[k] = (m - p).norm();
-    e.half_scaled[k] = e.half_length[k] * grid.density_at(0.5 * (p + m), options.lookup);
+    e.half_length[k] = (e.point - p).norm();
+    e.half_scaled[k] = e.half_length[k] * grid.density_at(0.5 * (p + e.point), options.lookup);
   }
-  double old_min = std::numeric_limits<double>::infinity(), new_min = old_min;
-  for (const index_t t : e.ring) {
-    new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, a, m));
-    new_min = std::min(new_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, b, m));
-  }
-  if (new_min < options.min_stretch)  // the tets as they are matter only then
-    for (const index_t t : e.ring)
-      old_min = std::min(old_min, stretch_with(mesh, t, kInvalidIndex, kInvalidIndex, kInvalidIndex, m));
-  e.accepted = !below_floor(new_min, options.split_relative_floor * old_min, options.min_stretch);
-  if (e.accepted && options.merge_new_midpoints && !e.boundary) plan_merge(mesh, grid, options, made, m, e);
+  if (e.accepted && options.merge_new_midpoints && !e.boundary) plan_merge(mesh, grid, options, made, e.point, e);
 }
 
 }  // namespace
@@ -303,7 +326,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
       if (!e.is_edge) continue;
       index_t v = kInvalidIndex;
       if (!e.accepted ||
-          mesh.split_edge(top.a, top.b, nullptr, &v, e.ring, e.opposite, e.boundary) != OpStatus::Ok) {
+          mesh.split_edge(top.a, top.b, &e.point, &v, e.ring, e.opposite, e.boundary) != OpStatus::Ok) {
         if (stats) ++stats->refused_splits;
         continue;
       }
@@ -356,11 +379,11 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
       if (static_cast<std::size_t>(v) >= made.size()) made.resize(static_cast<std::size_t>(v) + 1, 0);
       made[v] = 1;
       if (options.resplit_halves && original_edge) {
-        const bool at_midpoint = mesh.point(v) == Vec3(0.5 * (mesh.point(top.a) + mesh.point(top.b)));
+        const bool at_point = mesh.point(v) == e.point;  // not moved by a projection
         for (int k = 0; k < 2; ++k) {
           const index_t end = k == 0 ? top.a : top.b;
           double half = e.half_length[k], scaled = e.half_scaled[k];
-          if (!at_midpoint) scaled = scaled_length(mesh, grid, options.lookup, end, v, &half);
+          if (!at_point) scaled = scaled_length(mesh, grid, options.lookup, end, v, &half);
           if (scaled >= beta1) heap.push({half, std::min(end, v), std::max(end, v)});
         }
       }
