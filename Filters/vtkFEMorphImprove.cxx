@@ -182,6 +182,7 @@ void vtkFEMorphImprove::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RegionArrayName: " << this->RegionArrayName << "\n";
   os << indent << "SegmentIfMissing: " << this->SegmentIfMissing << "\n";
   os << indent << "RequireValid: " << this->RequireValid << "\n";
+  os << indent << "TraceQuality: " << this->TraceQuality << "\n";
 }
 
 //------------------------------------------------------------------------------
@@ -434,6 +435,7 @@ int vtkFEMorphImprove::RequestData(
     po.degenerate_threshold = this->DegenerateThreshold;
     po.tet_mask = tetMask;
     po.fix_boundary = !haveSegmentation;
+    po.trace_quality = this->TraceQuality != 0;
     po.progress = [this, &aborted](double fraction, const char* phase) {
       this->SetProgressText(phase);
       this->UpdateProgress(0.05 + 0.9 * std::min(std::max(fraction, 0.0), 1.0));
@@ -576,6 +578,21 @@ int vtkFEMorphImprove::RequestData(
     }
     steps.emplace_back("Output", SecondsSince(improveEnd));
     AddSummary(fd, "ImproveStepTimes", steps);
+    if (this->TraceQuality)
+    {
+      // Seconds from the filter's start: the set-up before the loop first.
+      vtkNew<vtkDoubleArray> trace;
+      trace->SetName("ImproveQualityTrace");
+      trace->SetNumberOfComponents(2);
+      trace->SetComponentName(0, "Seconds");
+      trace->SetComponentName(1, "MinStretch");
+      for (const auto& point : stats.quality_trace)
+      {
+        const double tuple[2] = { segmentationSeconds + preparationSeconds + point[0], point[1] };
+        trace->InsertNextTuple(tuple);
+      }
+      fd->AddArray(trace);
+    }
     if (haveSegmentation)
     {
       AddPerRegion(fd, "GeometricError", stats.geometric_error_after);

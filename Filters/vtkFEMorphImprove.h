@@ -52,7 +52,9 @@
  * and is output unchanged), `ImproveTimes` (seconds: segmentation, curves,
  * surfaces, volume, total), `ImproveStepTimes` (the same time by step:
  * preparation, degenerate and inverted removal, density control, accuracy
- * control, smoothing, flips, finishing, output); one tuple per region: `GeometricError` (largest
+ * control, smoothing, flips, finishing, output); with TraceQuality,
+ * `ImproveQualityTrace` (seconds and minimum stretch, one tuple per step);
+ * one tuple per region: `GeometricError` (largest
  * distance of a boundary edge's midpoint to the region's fitted curved
  * surface, after) and `AcceptableGeometricError` (the target; NaN for planes
  * and unknown regions).
@@ -240,6 +242,20 @@ public:
   vtkBooleanMacro(RequireValid, vtkTypeBool);
   ///@}
 
+  ///@{
+  /**
+   * For benchmarks: record the minimum stretch after every step of the
+   * loop in the field array `ImproveQualityTrace` (components Seconds, since
+   * the filter started, and MinStretch; one tuple per step), so the time
+   * the improvement took to reach a given minimum can be read off. One pass
+   * over the tetrahedra per step, left out of the recorded times. Default
+   * off.
+   */
+  vtkSetMacro(TraceQuality, vtkTypeBool);
+  vtkGetMacro(TraceQuality, vtkTypeBool);
+  vtkBooleanMacro(TraceQuality, vtkTypeBool);
+  ///@}
+
 protected:
   vtkFEMorphImprove();
   ~vtkFEMorphImprove() override;
@@ -267,6 +283,7 @@ protected:
   std::string RegionArrayName;
   vtkTypeBool SegmentIfMissing = 1;
   vtkTypeBool RequireValid = 1;
+  vtkTypeBool TraceQuality = 0;
 
 private:
   vtkFEMorphImprove(const vtkFEMorphImprove&) = delete;

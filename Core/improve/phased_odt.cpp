@@ -268,11 +268,22 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
   };
   // Time of one step from `t0` on; returns now.
   using Step = PhasedOdtStats::Step;
-  const auto lap = [&stats](Step step, Clock::time_point t0) {
-    const Clock::time_point now = Clock::now();
-    stats.step_seconds[step] += std::chrono::duration<double>(now - t0).count();
-    return now;
+  double trace_seconds = 0;  // spent on the quality trace
+  const auto trace = [&]() {
+    if (!options.trace_quality) return;
+    const Clock::time_point t0 = Clock::now();
+    const double at = std::chrono::duration<double>(t0 - start).count() - trace_seconds;
+    double min = 0, mean = 0;
+    live_stretch_range(mesh, &min, &mean);
+    stats.quality_trace.push_back({at, min});
+    trace_seconds += seconds_since(t0);
   };
+  const auto lap = [&](Step step, Clock::time_point t0) {
+    stats.step_seconds[step] += std::chrono::duration<double>(Clock::now() - t0).count();
+    trace();
+    return Clock::now();
+  };
+  trace();
   const auto remove_inverted = [&]() {
     InvertedRemovalOptions io;
     io.project = project;
@@ -460,7 +471,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
   if (target.density && !target.density->empty())
     stats.density_error_after = mean_density_error(mesh, *target.density, DensityLookup::Cell);
   stats.geometric_error_after = region_geometric_error(mesh, geometry);
-  stats.seconds = seconds_since(start);
+  stats.seconds = seconds_since(start) - trace_seconds;
   return stats;
 }
 

@@ -77,6 +77,10 @@ struct PhasedOdtOptions {
   /// quality_floor, no edge beyond the density thresholds and every curved
   /// region within its acceptable error. Off: always run the phases.
   bool skip_if_good = true;
+  /// For benchmarks: the minimum stretch over the live tets after every step
+  /// goes into PhasedOdtStats::quality_trace (one parallel pass over the
+  /// tets per step, left out of the trace's and the steps' times).
+  bool trace_quality = false;
   /// Keep every boundary vertex where it is (no segmentation): only inner
   /// vertices move, only edges between inner vertices are split or
   /// collapsed. Inverted tets are still repaired, which may remove a
@@ -133,6 +137,9 @@ struct PhasedOdtStats {
   static constexpr const char* kStepNames[kSteps] = {"Removal", "Density", "Accuracy", "Smoothing", "Flips",
                                                      "Finishing"};
   std::array<double, kSteps> step_seconds{};
+  /// With PhasedOdtOptions::trace_quality: (seconds since the start, minimum
+  /// stretch) at the start and after every step, in order.
+  std::vector<std::array<double, 2>> quality_trace;
   double seconds = 0;
   bool aborted = false;
   bool skipped = false;  ///< the mesh needed nothing (skip_if_good)

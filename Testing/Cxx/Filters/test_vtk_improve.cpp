@@ -404,6 +404,38 @@ TEST(Improve, BossHeightStretch3)
   ExpectStepTimesAddUp(run.Output);
 }
 
+// TraceQuality records the minimum stretch after every step: from the
+// input's minimum to the output's, at times that grow within the run, and
+// the mesh is the same as without it (the trace only reads). Off: no array.
+TEST(Improve, QualityTrace)
+{
+  auto part = femorph_test::ReadPart("boss_block.vtu");
+  ASSERT_NE(part, nullptr);
+  auto reference = Segmented(part);
+  const Arrays original = ToArrays(part);
+  auto deformed = Segmented(WithPoints(part, StretchSlab(original.Points, 20, 35, 1.6)));
+  ImproveRun plain = Improve(deformed, reference);
+  ImproveRun traced = Improve(deformed, reference, [](vtkFEMorphImprove* f) { f->TraceQualityOn(); });
+  EXPECT_EQ(plain.Output->GetFieldData()->GetArray("ImproveQualityTrace"), nullptr);
+  vtkDataArray* trace = traced.Output->GetFieldData()->GetArray("ImproveQualityTrace");
+  ASSERT_NE(trace, nullptr);
+  ASSERT_EQ(trace->GetNumberOfComponents(), 2);
+  ASSERT_GT(trace->GetNumberOfTuples(), 5);
+  EXPECT_STREQ(trace->GetComponentName(0), "Seconds");
+  EXPECT_STREQ(trace->GetComponentName(1), "MinStretch");
+  const vtkIdType last = trace->GetNumberOfTuples() - 1;
+  EXPECT_NEAR(trace->GetComponent(0, 1), Field(traced.Output, "ImproveStretch", "MinBefore"), 1e-12);
+  EXPECT_NEAR(trace->GetComponent(last, 1), Field(traced.Output, "ImproveStretch", "MinAfter"), 1e-12);
+  EXPECT_GT(trace->GetComponent(0, 0), 0.0);
+  for (vtkIdType i = 1; i <= last; ++i)
+  {
+    EXPECT_GE(trace->GetComponent(i, 0), trace->GetComponent(i - 1, 0)) << i;
+  }
+  EXPECT_LE(trace->GetComponent(last, 0), Field(traced.Output, "ImproveTimes", "Total"));
+  EXPECT_EQ(traced.Out.Points, plain.Out.Points);
+  EXPECT_EQ(traced.Out.Tets, plain.Out.Tets);
+}
+
 // Issue 5 (a): inner vertices moved by up to 40% of their mean edge length
 // (moves that would invert are skipped, so the input is valid).
 TEST(Improve, JitteredInnerVertices)
@@ -879,6 +911,7 @@ TEST(Improve, XmlDefaultsEqualCxxDefaults)
       { d->GetDegenerateThreshold(), d->GetDegenerateThresholdMinValue(), d->GetDegenerateThresholdMaxValue() } },
     { "SetSegmentIfMissing", flag(d->GetSegmentIfMissing()) },
     { "SetRequireValid", flag(d->GetRequireValid()) },
+    { "SetTraceQuality", { double(d->GetTraceQuality()), 0, 1, true } },
   };
   femorph_test::CheckFilterProperties(
     proxy, expected, {}, { { "SetRegionArrayName", d->GetRegionArrayName() } });
@@ -887,7 +920,7 @@ TEST(Improve, XmlDefaultsEqualCxxDefaults)
   ASSERT_NE(doc, nullptr);
   const std::string help = doc->GetCharacterData() ? doc->GetCharacterData() : "";
   for (const char* name : { "Stretch", "Inverted", "ImproveStretch", "ImproveDensityError", "ImproveCounts",
-         "ImproveTimes", "ImproveStepTimes", "GeometricError", "AcceptableGeometricError" })
+         "ImproveTimes", "ImproveStepTimes", "ImproveQualityTrace", "GeometricError", "AcceptableGeometricError" })
   {
     EXPECT_NE(help.find(name), std::string::npos) << name;
   }
