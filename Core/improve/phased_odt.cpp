@@ -266,9 +266,10 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
     if (options.progress && !options.progress(fraction, phase)) stats.aborted = true;
     return !stats.aborted;
   };
-  // Time of one step from `t0` on; returns now.
   using Step = PhasedOdtStats::Step;
   double trace_seconds = 0;  // spent on the quality trace
+  // PhasedOdtOptions::trace_quality: the minimum stretch now, stamped with
+  // the time without the tracing.
   const auto trace = [&]() {
     if (!options.trace_quality) return;
     const Clock::time_point t0 = Clock::now();
@@ -278,6 +279,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
     stats.quality_trace.push_back({at, min});
     trace_seconds += seconds_since(t0);
   };
+  // Time of one step from `t0` on (then the trace); returns now.
   const auto lap = [&](Step step, Clock::time_point t0) {
     stats.step_seconds[step] += std::chrono::duration<double>(Clock::now() - t0).count();
     trace();
