@@ -66,7 +66,7 @@ struct DensityControlOptions {
   /// the number nearest the target there (n pieces are |n / (L rho) - 1|
   /// off), where halving made two or four (an edge at 3 / rho made four of
   /// 0.75 / rho, which no collapse takes back). x3 benchmark: density error
-  /// 0.150 -> 0.148, minimum stretch 0.318 -> 0.335, 0.3 s more.
+  /// 0.150 -> 0.148, minimum stretch 0.318 -> 0.321, 0.3-0.5 s more.
   bool split_in_thirds = true;
   /// Beyond the thesis: a split pass merges an inner midpoint into an inner
   /// vertex it made earlier when the two are closer than beta2 of the

@@ -46,7 +46,6 @@ OdtSmoothReport relax_edge_lengths(TetMesh& mesh, const DensityGrid& grid, const
   return odt_smooth_volume(mesh, smooth);
 }
 
-
 OdtSmoothReport relax_surface_edge_lengths(TetMesh& mesh, const BoundaryGeometry& geometry, const DensityGrid& grid,
                                            const RelaxEdgeLengthsOptions& options) {
   if (grid.empty()) return {};
