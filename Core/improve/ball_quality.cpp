@@ -4,6 +4,7 @@
 #include "quality/tet_quality.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace femorph {
@@ -32,6 +33,67 @@ double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, i
   double q = std::numeric_limits<double>::infinity();
   for (const index_t t : ball) q = std::min(q, stretch_with(mesh, t, v, p));
   return q;
+}
+
+MovingBall::MovingBall(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v) {
+  // (v, a, b, c) an even permutation of the tet for v at local index 0..3.
+  static constexpr int kOrder[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {2, 1, 0}};
+  opposite_.reserve(ball.size());
+  for (const index_t t : ball) {
+    const Tet& T = mesh.tet(t);
+    const int i = mesh.local_index(t, v);
+    Opposite o;
+    o.a = mesh.point(T[kOrder[i][0]]);
+    o.b = mesh.point(T[kOrder[i][1]]);
+    o.c = mesh.point(T[kOrder[i][2]]);
+    const Vec3 ab = o.b - o.a, ac = o.c - o.a;
+    o.max_squared = std::max({ab.squaredNorm(), ac.squaredNorm(), (o.c - o.b).squaredNorm()});
+    o.area2 = ab.cross(ac).norm();
+    opposite_.push_back(o);
+  }
+}
+
+// Eq. 1.1 as tet_stretch computes it, 2 sqrt(6) det / (L_max S), with the
+// parts of the opposite face taken from `o`.
+double MovingBall::stretch(const Opposite& o, const Vec3& p) const {
+  static const double kScale = 2.0 * std::sqrt(6.0);
+  // Scalars throughout: Eigen's cross().norm() stores and reloads the
+  // components, a store-forwarding stall (see tet_quality.cpp).
+  const double ax = o.a.x() - p.x(), ay = o.a.y() - p.y(), az = o.a.z() - p.z();
+  const double bx = o.b.x() - p.x(), by = o.b.y() - p.y(), bz = o.b.z() - p.z();
+  const double cx = o.c.x() - p.x(), cy = o.c.y() - p.y(), cz = o.c.z() - p.z();
+  const double nx = by * cz - bz * cy, ny = bz * cx - bx * cz, nz = bx * cy - by * cx;  // pb x pc
+  const double det = ax * nx + ay * ny + az * nz;
+  const double ux = ay * bz - az * by, uy = az * bx - ax * bz, uz = ax * by - ay * bx;  // pa x pb
+  const double wx = ay * cz - az * cy, wy = az * cx - ax * cz, wz = ax * cy - ay * cx;  // pa x pc
+  const double l2 = std::max(std::max(o.max_squared, ax * ax + ay * ay + az * az),
+                             std::max(bx * bx + by * by + bz * bz, cx * cx + cy * cy + cz * cz));
+  const double s = o.area2 + std::sqrt(nx * nx + ny * ny + nz * nz) + std::sqrt(ux * ux + uy * uy + uz * uz) +
+                   std::sqrt(wx * wx + wy * wy + wz * wz);
+  const double denominator = std::sqrt(l2) * s;
+  return denominator > 0 ? kScale * det / denominator : 0.0;
+}
+
+double MovingBall::min_stretch(const Vec3& p) const {
+  double q = std::numeric_limits<double>::infinity();
+  for (const Opposite& o : opposite_) q = std::min(q, stretch(o, p));
+  return q;
+}
+
+bool MovingBall::exceeds(const Vec3& p, double bound, double* min) {
+  const std::size_t n = opposite_.size();
+  double q = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = first_ + k < n ? first_ + k : first_ + k - n;
+    const double s = stretch(opposite_[i], p);
+    if (!(s > bound)) {
+      first_ = i;
+      return false;
+    }
+    q = std::min(q, s);
+  }
+  *min = q;
+  return true;
 }
 
 bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,

@@ -17,6 +17,33 @@ class TetMesh;
 /// p (v = kInvalidIndex: the tets as they are).
 double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p);
 
+/// The ball of vertex v with v free to move, for searches that try many
+/// positions of v (compass_search_vertex): per tet, the three other
+/// vertices in an order that keeps the orientation, and what does not
+/// depend on v (the opposite face's area, its longest edge) computed once.
+/// Stretches agree with tet_stretch to rounding.
+class MovingBall {
+ public:
+  MovingBall(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v);
+  /// Minimum stretch (Eq. 1.1) over the ball with v at p.
+  double min_stretch(const Vec3& p) const;
+  /// Whether the minimum stretch with v at p exceeds `bound` (then it is
+  /// written to *min). Stops at the first tet at or below `bound`, and tries
+  /// that tet first next time: the tet that limits a search rarely changes,
+  /// so most rejected positions cost one tet instead of the ball.
+  bool exceeds(const Vec3& p, double bound, double* min);
+
+ private:
+  struct Opposite {
+    Vec3 a, b, c;          ///< (v, a, b, c) has the tet's orientation
+    double max_squared;    ///< longest of ab, ac, bc, squared
+    double area2;          ///< |ab x ac|: twice the area of face abc
+  };
+  double stretch(const Opposite& o, const Vec3& p) const;
+  std::vector<Opposite> opposite_;
+  std::size_t first_ = 0;
+};
+
 /// The quality guard of the smoothing steps (beyond the thesis): moving v
 /// to p must not lower the ball's minimum stretch (`old_min`, from
 /// ball_min_stretch at v's position), and no tet of the ball at or above

@@ -19,7 +19,8 @@ double compass_search_vertex(TetMesh& mesh, index_t v) {
   double len = 0;
   for (const index_t w : neighbours) len += (mesh.point(w) - x).norm();
   double step = 0.25 * len / static_cast<double>(std::max<std::size_t>(1, neighbours.size()));
-  const double start = ball_min_stretch(mesh, ball, v, x);
+  MovingBall moving(mesh, ball, v);
+  const double start = moving.min_stretch(x);
   double best = start;
   for (int halving = 0; halving < 10; ++halving, step *= 0.5) {
     bool moved = true;
@@ -28,8 +29,8 @@ double compass_search_vertex(TetMesh& mesh, index_t v) {
       for (int d = 0; d < 6; ++d) {
         Vec3 y = x;
         y[d / 2] += d % 2 ? -step : step;
-        const double q = ball_min_stretch(mesh, ball, v, y);
-        if (q > best) {
+        double q;
+        if (moving.exceeds(y, best, &q)) {
           best = q;
           x = y;
           moved = true;
@@ -44,7 +45,7 @@ double compass_search_vertex(TetMesh& mesh, index_t v) {
 
 WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions& options) {
   WorstVertexStats stats;
-  std::vector<index_t> ball, candidates;
+  std::vector<index_t> candidates;
   const auto movable = [&](index_t v) {
     return mesh.vertex_class(v) == VertexClass::Inner &&
            (options.vertex_mask.empty() ||
@@ -67,9 +68,9 @@ WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions
     std::size_t improved = 0;
     for (const index_t v : candidates) {
       ++stats.candidates;
-      mesh.vertex_ball(v, ball);
-      const double start = ball_min_stretch(mesh, ball, v, mesh.point(v));
-      if (compass_search_vertex(mesh, v) > start) {
+      const Vec3 before = mesh.point(v);
+      compass_search_vertex(mesh, v);
+      if (mesh.point(v) != before) {
         ++stats.improved;
         ++improved;
       }

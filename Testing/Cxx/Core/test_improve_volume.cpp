@@ -1,6 +1,7 @@
 // Phase (3) of Phased ODT smoothing (thesis 2.6.5.4): ODT smoothing of the
 // inner vertices and quality-raising flips repair randomly displaced inner
 // vertices without touching the boundary.
+#include "improve/ball_quality.h"
 #include "improve/improve_tets_by_flips.h"
 #include "improve/improve_volume.h"
 #include "improve/odt_smooth_volume.h"
@@ -236,6 +237,43 @@ TEST(ImproveVolume, SplittingTetsBelowThresholdNeverLowersTheMinimum) {
   const CompactMesh out = m.compact();
   EXPECT_TRUE(check_validity(out.points, out.tets).ok());
   EXPECT_NEAR(testing::total_volume(out.points, out.tets), volume, 1e-12 * volume);
+}
+
+// The compass search's ball: the same stretches as tet_stretch for every
+// local position of the moving vertex (orientation kept: inverted positions
+// score negative), and exceeds() the same verdict as the full minimum.
+TEST(ImproveVolume, MovingBallAgreesWithTetStretch) {
+  double volume = 0, undeformed_mean = 0;
+  TetMesh m = perturbed_cube(&volume, &undeformed_mean);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<index_t> ball;
+  int checked = 0, negative = 0, agreed = 0;
+  for (index_t v = 0; v < m.vertex_slots(); v += 7) {
+    if (!m.vertex_alive(v) || m.vertex_class(v) != VertexClass::Inner) continue;
+    m.vertex_ball(v, ball);
+    MovingBall moving(m, ball, v);
+    for (int k = 0; k < 20; ++k) {
+      const Vec3 p = m.point(v) + 0.06 * Vec3(u(rng), u(rng), u(rng));
+      const double expected = ball_min_stretch(m, ball, v, p);
+      EXPECT_NEAR(moving.min_stretch(p), expected, 1e-12);
+      negative += expected < 0;
+      const double bound = expected + 0.02 * u(rng);
+      if (std::abs(bound - expected) < 1e-12) continue;  // a tie is decided by rounding
+      double q = -1;
+      const bool exceeds = moving.exceeds(p, bound, &q);
+      EXPECT_EQ(exceeds, expected > bound);
+      if (exceeds) {
+        EXPECT_NEAR(q, expected, 1e-12);
+      }
+      agreed += exceeds;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 500);
+  EXPECT_GT(negative, 10);  // positions that invert a tet were tried
+  EXPECT_GT(agreed, 10);
+  EXPECT_LT(agreed, checked);
 }
 
 TEST(ImproveVolume, RestrictionMaskRespected) {
