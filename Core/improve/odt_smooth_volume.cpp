@@ -3,6 +3,7 @@
 #include "improve/ball_quality.h"
 #include "improve/odt_smooth_volume.h"
 
+#include "improve/coloured_balls.h"
 #include "improve/locally_delaunay.h"
 #include "improve/relax_edge_lengths.h"
 #include "mesh/tet_mesh.h"
@@ -17,117 +18,6 @@
 namespace femorph {
 
 namespace {
-
-/// The vertices to smooth and their balls (topology does not change while
-/// smoothing, so the balls are gathered once), grouped by colour: no two
-/// vertices of one colour share a tet, so a colour's moves are independent.
-struct ColouredBalls {
-  std::vector<index_t> vertices;     // candidate vertices, by colour then id
-  std::vector<std::size_t> colour_start;  // vertices[colour_start[c] .. colour_start[c + 1])
-  std::vector<std::size_t> ball_start;    // per entry of `vertices`
-  std::vector<index_t> ball_tets;
-};
-
-ColouredBalls coloured_balls(const TetMesh& mesh, const OdtSmoothOptions& options) {
-  const index_t slots = mesh.vertex_slots();
-  const bool use_mask = !options.vertex_mask.empty();
-  std::vector<index_t> index(static_cast<std::size_t>(slots), kInvalidIndex);
-  std::vector<index_t> ids;
-  for (index_t v = 0; v < slots; ++v) {
-    if (!mesh.vertex_alive(v) || mesh.vertex_class(v) != VertexClass::Inner) continue;
-    if (use_mask && (static_cast<std::size_t>(v) >= options.vertex_mask.size() || !options.vertex_mask[v])) continue;
-    index[v] = static_cast<index_t>(ids.size());
-    ids.push_back(v);
-  }
-  // Balls in id order (CSR over the live tets), each ball's tets in slot
-  // order. Counted and filled in parallel, then each ball sorted: the same
-  // lists as a serial scan.
-  const long slots_t = mesh.tet_slots();
-  const bool parallel = slots_t >= kParallelMinItems;
-  std::vector<index_t> start(ids.size() + 1, 0);
-#pragma omp parallel for schedule(static) if (parallel)
-  for (long t = 0; t < slots_t; ++t)
-    if (mesh.tet_alive(static_cast<index_t>(t)))
-      for (const index_t w : mesh.tet(static_cast<index_t>(t)))
-        if (index[w] >= 0) {
-#pragma omp atomic
-          ++start[static_cast<std::size_t>(index[w]) + 1];
-        }
-  for (std::size_t i = 0; i < ids.size(); ++i) start[i + 1] += start[i];
-  std::vector<index_t> tets(static_cast<std::size_t>(start.back()));
-  {
-    std::vector<index_t> fill(start.begin(), start.end() - 1);
-#pragma omp parallel for schedule(static) if (parallel)
-    for (long t = 0; t < slots_t; ++t)
-      if (mesh.tet_alive(static_cast<index_t>(t)))
-        for (const index_t w : mesh.tet(static_cast<index_t>(t)))
-          if (index[w] >= 0) {
-            index_t slot;
-#pragma omp atomic capture
-            slot = fill[static_cast<std::size_t>(index[w])]++;
-            tets[static_cast<std::size_t>(slot)] = static_cast<index_t>(t);
-          }
-  }
-  const long nids = static_cast<long>(ids.size());
-#pragma omp parallel for schedule(static) if (parallel)
-  for (long i = 0; i < nids; ++i)
-    std::sort(tets.begin() + start[static_cast<std::size_t>(i)], tets.begin() + start[static_cast<std::size_t>(i) + 1]);
-
-  // Greedy colouring in id order: deterministic, and the same whatever the
-  // number of threads. A vertex's colour depends only on its neighbours
-  // with a lower id, found first in parallel (each ball holds at most three
-  // per tet); the serial loop then reads a few colours per vertex (it was
-  // 0.06-0.09 s per call at x3 with the balls walked there).
-  const std::unique_ptr<index_t[]> lower(new index_t[3 * tets.size() + 1]);
-  std::vector<index_t> lower_count(ids.size(), 0);
-#pragma omp parallel for schedule(static) if (parallel)
-  for (long i = 0; i < nids; ++i) {
-    index_t* out = lower.get() + 3 * static_cast<std::size_t>(start[static_cast<std::size_t>(i)]);
-    index_t n = 0;
-    for (index_t k = start[static_cast<std::size_t>(i)]; k < start[static_cast<std::size_t>(i) + 1]; ++k)
-      for (const index_t w : mesh.tet(tets[static_cast<std::size_t>(k)])) {
-        const index_t j = index[w];
-        if (j >= 0 && j < i && std::find(out, out + n, j) == out + n) out[n++] = j;
-      }
-    lower_count[static_cast<std::size_t>(i)] = n;
-  }
-  std::vector<int> colour(ids.size(), -1);
-  std::vector<char> used;
-  int colours = 0;
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    used.assign(static_cast<std::size_t>(colours) + 1, 0);
-    const index_t* in = lower.get() + 3 * static_cast<std::size_t>(start[i]);
-    for (index_t k = 0; k < lower_count[i]; ++k) used[static_cast<std::size_t>(colour[static_cast<std::size_t>(in[k])])] = 1;
-    int c = 0;
-    while (used[c]) ++c;
-    colour[i] = c;
-    colours = std::max(colours, c + 1);
-  }
-
-  ColouredBalls out;
-  out.colour_start.assign(static_cast<std::size_t>(colours) + 1, 0);
-  for (const int c : colour) ++out.colour_start[c + 1];
-  for (int c = 0; c < colours; ++c) out.colour_start[c + 1] += out.colour_start[c];
-  std::vector<std::size_t> slot(out.colour_start.begin(), out.colour_start.end() - 1);
-  std::vector<std::size_t> order(ids.size());
-  for (std::size_t i = 0; i < ids.size(); ++i) order[slot[colour[i]]++] = i;
-  out.vertices.resize(ids.size());
-  out.ball_start.assign(ids.size() + 1, 0);
-  for (std::size_t j = 0; j < order.size(); ++j) {
-    const std::size_t i = order[j];
-    out.vertices[j] = ids[i];
-    out.ball_start[j + 1] = out.ball_start[j] + static_cast<std::size_t>(start[i + 1] - start[i]);
-  }
-  out.ball_tets.resize(tets.size());
-  const long nout = static_cast<long>(order.size());
-#pragma omp parallel for schedule(static) if (parallel)
-  for (long j = 0; j < nout; ++j) {
-    const std::size_t i = order[static_cast<std::size_t>(j)];
-    std::copy(tets.begin() + start[i], tets.begin() + start[i + 1],
-              out.ball_tets.begin() + static_cast<std::ptrdiff_t>(out.ball_start[static_cast<std::size_t>(j)]));
-  }
-  return out;
-}
 
 /// Eq. 2.31: the step from v to the density-weighted mean of the centres
 /// c_tau of its ball, and v's mean edge length (counted per tet); false
@@ -179,7 +69,7 @@ bool odt_centre_step(const TetMesh& mesh, const std::vector<index_t>& ball, inde
 OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options) {
   OdtSmoothReport report;
   const bool vertex_rho = !options.density && !options.vertex_density.empty();
-  const ColouredBalls cb = coloured_balls(mesh, options);
+  const ColouredBalls cb = coloured_balls(mesh, options.vertex_mask);
   const std::size_t n = cb.vertices.size();
   if (n == 0) return report;
   // Active set (per entry of cb.vertices): visit in this sweep; moved far.

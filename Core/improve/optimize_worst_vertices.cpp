@@ -1,6 +1,7 @@
 #include "improve/optimize_worst_vertices.h"
 
 #include "improve/ball_quality.h"
+#include "improve/coloured_balls.h"
 #include "improve/scan_live_tets.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
@@ -11,10 +12,19 @@
 
 namespace femorph {
 
-double compass_search_vertex(TetMesh& mesh, index_t v) {
-  thread_local std::vector<index_t> ball, neighbours;
-  mesh.vertex_ball(v, ball);
-  mesh.vertex_neighbors(v, neighbours);
+namespace {
+
+/// compass_search_vertex with v's ball given (every live tet that holds v):
+/// touches no shared scratch, so it may run concurrently for vertices that
+/// share no tet.
+double compass_search_in_ball(TetMesh& mesh, index_t v, const std::vector<index_t>& ball,
+                              std::vector<index_t>& neighbours) {
+  neighbours.clear();
+  for (const index_t t : ball)
+    for (const index_t w : mesh.tet(t))
+      if (w != v) neighbours.push_back(w);
+  std::sort(neighbours.begin(), neighbours.end());
+  neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
   Vec3 x = mesh.point(v);
   double len = 0;
   for (const index_t w : neighbours) len += (mesh.point(w) - x).norm();
@@ -39,13 +49,22 @@ double compass_search_vertex(TetMesh& mesh, index_t v) {
     }
   }
   // Stretch > 0 means positive volume, but the exact test decides.
-  if (best > start && mesh.move_vertex(v, x) == OpStatus::Ok) return best;
+  if (best > start && mesh.move_vertex_in_ball(v, x, ball) == OpStatus::Ok) return best;
   return start;
+}
+
+}  // namespace
+
+double compass_search_vertex(TetMesh& mesh, index_t v) {
+  thread_local std::vector<index_t> ball, neighbours;
+  mesh.vertex_ball(v, ball);
+  return compass_search_in_ball(mesh, v, ball, neighbours);
 }
 
 WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions& options) {
   WorstVertexStats stats;
   std::vector<index_t> candidates;
+  std::vector<std::uint8_t> mask;
   const auto movable = [&](index_t v) {
     return mesh.vertex_class(v) == VertexClass::Inner &&
            (options.vertex_mask.empty() ||
@@ -62,19 +81,32 @@ WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions
         if (movable(v)) out.push_back(v);
     });
     join_chunks(found, [](const std::vector<index_t>& f) -> const std::vector<index_t>& { return f; }, &candidates);
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
     if (candidates.empty()) break;
+    // Coloured (vertices of one colour share no tet) and searched colour by
+    // colour, each colour in parallel: the same moves for any number of
+    // threads (a serial pass took 1.4 s of the x1.6 benchmark's 4.3 s).
+    mask.assign(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+    for (const index_t v : candidates) mask[v] = 1;
+    const ColouredBalls cb = coloured_balls(mesh, mask);
     std::size_t improved = 0;
-    for (const index_t v : candidates) {
-      ++stats.candidates;
-      const Vec3 before = mesh.point(v);
-      compass_search_vertex(mesh, v);
-      if (mesh.point(v) != before) {
-        ++stats.improved;
-        ++improved;
+    for (std::size_t c = 0; c + 1 < cb.colour_start.size(); ++c) {
+      const long first = static_cast<long>(cb.colour_start[c]), last = static_cast<long>(cb.colour_start[c + 1]);
+#pragma omp parallel if (last - first >= 64)
+      {
+        std::vector<index_t> ball, neighbours;
+#pragma omp for schedule(dynamic, 16) reduction(+ : improved)
+        for (long j = first; j < last; ++j) {
+          const index_t v = cb.vertices[static_cast<std::size_t>(j)];
+          ball.assign(cb.ball_tets.begin() + static_cast<std::ptrdiff_t>(cb.ball_start[static_cast<std::size_t>(j)]),
+                      cb.ball_tets.begin() + static_cast<std::ptrdiff_t>(cb.ball_start[static_cast<std::size_t>(j) + 1]));
+          const Vec3 before = mesh.point(v);
+          compass_search_in_ball(mesh, v, ball, neighbours);
+          improved += mesh.point(v) != before;
+        }
       }
     }
+    stats.candidates += cb.vertices.size();
+    stats.improved += improved;
     if (improved == 0) break;
   }
   return stats;
