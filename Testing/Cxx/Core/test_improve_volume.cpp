@@ -5,6 +5,7 @@
 #include "improve/improve_tets_by_flips.h"
 #include "improve/improve_volume.h"
 #include "improve/odt_smooth_volume.h"
+#include "improve/optimize_worst_vertices.h"
 #include "improve/scan_live_tets.h"
 #include "improve/split_locked_tets.h"
 #include "io/read_medit_mesh.h"
@@ -170,6 +171,31 @@ TEST(ImproveVolume, SmoothingDoesNotDependOnThreadCount) {
   for (index_t v = 0; v < m.vertex_slots(); ++v)
     differ += std::memcmp(one.point(v).data(), two.point(v).data(), 3 * sizeof(double)) != 0;
   EXPECT_EQ(differ, 0u);
+}
+
+// The worst-vertex search runs colour by colour in parallel: the same
+// points for any number of threads, and the minimum never drops.
+TEST(ImproveVolume, WorstVertexSearchDoesNotDependOnThreadCount) {
+  const TetMesh m = perturbed_cube();
+  TetMesh one = m, two = m;
+  WorstVertexOptions options;
+  options.threshold = 0.5;  // enough candidates for colours of 64 and more
+  const WorstVertexStats r1 = testing::with_threads(1, [&] { return optimize_worst_vertices(one, options); });
+  const WorstVertexStats r2 = testing::with_threads(2, [&] { return optimize_worst_vertices(two, options); });
+  std::printf("candidates %zu, improved %zu\n", r1.candidates, r1.improved);
+  EXPECT_GT(r1.improved, 500u);
+  EXPECT_EQ(r1.candidates, r2.candidates);
+  EXPECT_EQ(r1.improved, r2.improved);
+  std::size_t differ = 0;
+  for (index_t v = 0; v < m.vertex_slots(); ++v)
+    differ += std::memcmp(one.point(v).data(), two.point(v).data(), 3 * sizeof(double)) != 0;
+  EXPECT_EQ(differ, 0u);
+  double min0 = 0, min1 = 0;
+  live_stretch_range(m, &min0, nullptr);
+  live_stretch_range(one, &min1, nullptr);
+  EXPECT_GT(min1, min0);
+  const CompactMesh out = one.compact();
+  EXPECT_TRUE(check_validity(out.points, out.tets).ok());
 }
 
 // Flips are evaluated in parallel batches (improve_tets_by_flips.h): the
