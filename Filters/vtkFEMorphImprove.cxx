@@ -183,6 +183,7 @@ void vtkFEMorphImprove::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SegmentIfMissing: " << this->SegmentIfMissing << "\n";
   os << indent << "RequireValid: " << this->RequireValid << "\n";
   os << indent << "TraceQuality: " << this->TraceQuality << "\n";
+  os << indent << "PoorElementsOnly: " << this->PoorElementsOnly << "\n";
 }
 
 //------------------------------------------------------------------------------
@@ -353,6 +354,8 @@ int vtkFEMorphImprove::RequestData(
     GridArrays(working, points, tets);
     femorph::DensityGrid grid;
     std::vector<double> acceptable;
+    // Repairing the poor elements only needs no density target.
+    const bool wantDensity = !this->PoorElementsOnly;
     if (reference && reference->GetNumberOfCells() > 0)
     {
       std::string others;
@@ -366,16 +369,20 @@ int vtkFEMorphImprove::RequestData(
       std::vector<femorph::Vec3> refPoints;
       std::vector<femorph::Tet> refTets;
       GridArrays(reference, refPoints, refTets);
-      double meanLength = 0;
-      const std::vector<double> densities = femorph::vertex_density(refPoints, refTets, &meanLength);
-      const double cell = this->GridCellSize > 0 ? this->GridCellSize : 0.5 * meanLength;
-      // Eq. 2.33: with the input's connectivity the densities travel with
-      // the material; otherwise the reference's field is used in space.
-      const bool same = SameConnectivity(input, reference);
-      // Improve looks the field up per cell (rho_GC), not trilinearly.
-      constexpr std::size_t maxPoints = std::size_t(1) << 27;
-      const bool built = same ? grid.build(points, tets, densities, cell, maxPoints, false)
-                              : grid.build(refPoints, refTets, densities, cell, maxPoints, false);
+      bool built = true;
+      if (wantDensity)
+      {
+        double meanLength = 0;
+        const std::vector<double> densities = femorph::vertex_density(refPoints, refTets, &meanLength);
+        const double cell = this->GridCellSize > 0 ? this->GridCellSize : 0.5 * meanLength;
+        // Eq. 2.33: with the input's connectivity the densities travel with
+        // the material; otherwise the reference's field is used in space.
+        const bool same = SameConnectivity(input, reference);
+        // Improve looks the field up per cell (rho_GC), not trilinearly.
+        constexpr std::size_t maxPoints = std::size_t(1) << 27;
+        built = same ? grid.build(points, tets, densities, cell, maxPoints, false)
+                     : grid.build(refPoints, refTets, densities, cell, maxPoints, false);
+      }
       if (!built)
       {
         vtkWarningMacro(<< Label << ": no density field could be made from the Reference (grid "
@@ -405,7 +412,7 @@ int vtkFEMorphImprove::RequestData(
                            "regions; the input's own geometric error is kept.");
       }
     }
-    else
+    else if (wantDensity)
     {
       double meanLength = 0;
       const std::vector<double> densities = femorph::vertex_density(points, tets, &meanLength);
@@ -436,6 +443,7 @@ int vtkFEMorphImprove::RequestData(
     po.tet_mask = tetMask;
     po.fix_boundary = !haveSegmentation;
     po.trace_quality = this->TraceQuality != 0;
+    po.poor_elements_only = this->PoorElementsOnly != 0;
     po.progress = [this, &aborted](double fraction, const char* phase) {
       this->SetProgressText(phase);
       this->UpdateProgress(0.05 + 0.9 * std::min(std::max(fraction, 0.0), 1.0));

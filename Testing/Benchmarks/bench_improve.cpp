@@ -23,8 +23,9 @@
 // part's size). FEMorph's time is the median of --runs runs of the filter
 // (the segmentation of the stretched part, which FEMorph Deform would hand
 // over, is timed on its own); the peers run --peer-runs times (default once:
-// they are slow) and their own optimizer time is what the ratio peer/FM
-// (peer time over FEMorph's) uses (Gmsh:
+// they are slow) and their own optimizer time is what the ratios peer/FM
+// and peer/PO (peer time over FEMorph's, over FEMorph's with Poor Elements
+// Only: the repair of the poor tets alone, as the peers do) use (Gmsh:
 // the optimize call only; TetGen: the whole process, reading and writing its
 // files included). --save=DIR writes FEMorph's output, improved_x<factor>.vtu.
 //
@@ -261,15 +262,18 @@ Measures measure(const Mesh& m, const InputBoundary& input) {
 }
 
 void print_header() {
-  std::printf("%-26s %4s %8s %8s %7s %7s %7s %5s %5s %17s %9s %5s %7s\n", "method", "runs", "time s", "tets", "min Q",
-              "mean Q", "min dih", "inv", "valid", "bnd pts off input", "bnd dist", "kept", "peer/FM");
+  std::printf("%-27s %4s %8s %8s %7s %7s %7s %5s %5s %17s %9s %5s %7s %7s\n", "method", "runs", "time s", "tets",
+              "min Q", "mean Q", "min dih", "inv", "valid", "bnd pts off input", "bnd dist", "kept", "peer/FM",
+              "peer/PO");
 }
 
-void print_row(const char* name, int runs, double seconds, const Measures& q, double femorph_seconds) {
-  std::printf("%-26s %4d %8.2f %8zu %7.3f %7.3f %7.2f %5zu %5s %8zu/%-8zu %9.2e %5s", name, runs, seconds, q.tets,
+void print_row(const char* name, int runs, double seconds, const Measures& q, double femorph_seconds,
+               double repair_seconds = 0) {
+  std::printf("%-27s %4d %8.2f %8zu %7.3f %7.3f %7.2f %5zu %5s %8zu/%-8zu %9.2e %5s", name, runs, seconds, q.tets,
               q.min_stretch, q.mean_stretch, q.min_dihedral, q.inverted, q.valid ? "yes" : "NO", q.boundary_moved,
               q.boundary_points, q.boundary_distance, q.boundary_kept ? "yes" : "no");
   if (femorph_seconds > 0 && seconds > 0) std::printf(" %6.2fx", seconds / femorph_seconds);
+  if (repair_seconds > 0 && seconds > 0) std::printf(" %6.2fx", seconds / repair_seconds);
   std::printf("\n");
   if (!q.valid) std::printf("    checker: %s\n", q.invalid.c_str());
 }
@@ -588,24 +592,37 @@ int main(int argc, char** argv) {
                 slab_lo, slab_hi, factor, in.tets, in.min_stretch, in.mean_stretch, in.min_dihedral);
     auto deformed_grid = to_grid(deformed);
 
-    double femorph_s = 0;
-    Measures fm;
+    double femorph_s = 0, repair_s = 0;
+    Measures fm, repair;
     std::vector<std::array<double, 2>> trace;  // (seconds, min stretch) of a traced FEMorph run
     // The time FEMorph's traced run first had a minimum stretch of at least
-    // `min` (NaN: never), and the verdict of the goal: faster than
-    // every peer at equal or better minimum quality.
+    // `min` (NaN: never).
     const auto reached = [&trace](double min) {
       for (const auto& p : trace)
         if (p[1] >= min) return p[0];
       return std::numeric_limits<double>::quiet_NaN();
     };
+    // The verdict of the goal, faster than every peer at equal or
+    // better minimum quality, on outputs: the faster of FEMorph's two runs
+    // (the phased loop, Poor Elements Only) whose mesh has at least the
+    // peer's minimum stretch. The trace says when the full run passed it.
     bool faster_than_all = true;
     const auto compare = [&](const char* peer, double peer_s, double peer_min) {
-      const double t = reached(peer_min);
+      double t = std::numeric_limits<double>::quiet_NaN();
+      const char* which = "no run reached it";
+      if (repair.min_stretch >= peer_min) {
+        t = repair_s;
+        which = "Poor Elements Only";
+      }
+      if (fm.min_stretch >= peer_min && !(t <= femorph_s)) {
+        t = femorph_s;
+        which = "the phased loop";
+      }
       const bool faster = t < peer_s;
       faster_than_all = faster_than_all && faster;
-      std::printf("    FEMorph passed this minimum (%.3f) after %.2f s of its run: %s than %s\n", peer_min, t,
-                  faster ? "faster" : "slower", peer);
+      std::printf("    FEMorph at this minimum (%.3f) or better: %.2f s (%s; the phased loop's trace passed it after "
+                  "%.2f s): %s than %s\n",
+                  peer_min, t, which, reached(peer_min), faster ? "faster" : "slower", peer);
     };
     if (femorph_on) {
       std::vector<double> seg_times, times;
@@ -651,6 +668,26 @@ int main(int argc, char** argv) {
         writer->Write();
       }
       fm = measure(to_mesh(improved), boundary);
+      {
+        // Poor Elements Only: the repair a user would compare with the
+        // peers' optimizers (no density recovery), median of --runs runs.
+        std::vector<double> repair_times;
+        vtkSmartPointer<vtkUnstructuredGrid> repaired;
+        for (int r = 0; r < runs; ++r) {
+          vtkNew<vtkFEMorphImprove> improve;
+          improve->SetInputData(segmented);
+          improve->SetReferenceData(reference);
+          improve->PoorElementsOnlyOn();
+          const auto t0 = Clock::now();
+          improve->Update();
+          repair_times.push_back(seconds_since(t0));
+          repaired = improve->GetOutput();
+        }
+        repair_s = median(repair_times);
+        repair = measure(to_mesh(repaired), boundary);
+        std::printf("FEMorph Improve, Poor Elements Only, last run: steps %s\n",
+                    field_summary(repaired, "ImproveStepTimes", "%s %.2f s").c_str());
+      }
       vtkDataArray* density = improved->GetFieldData()->GetArray("ImproveDensityError");
       std::printf(
         "segmentation of the stretched part (FEMorph Segment): %.2f s; density error (Eq. 2.35) %.4f -> %.4f, "
@@ -668,7 +705,10 @@ int main(int argc, char** argv) {
     }
     print_header();
     print_row("input (stretched)", 0, 0, in, 0);
-    if (femorph_on) print_row("FEMorph Improve", runs, femorph_s, fm, 0);
+    if (femorph_on) {
+      print_row("FEMorph Improve", runs, femorph_s, fm, 0);
+      print_row("FEMorph, Poor Elements Only", runs, repair_s, repair, 0);
+    }
     if (!peers) continue;
 
     // TetGen: reconstruct the mesh (-r) and optimise it (-O level/scheme:
@@ -693,11 +733,11 @@ int main(int argc, char** argv) {
       }
       const std::string name = "tetgen " + sw;
       if (rc != 0 || !read_tetgen(stem + ".1", out)) {
-        std::printf("%-26s failed (exit %d, see %s/tetgen.log)\n", name.c_str(), rc, dir.c_str());
+        std::printf("%-27s failed (exit %d, see %s/tetgen.log)\n", name.c_str(), rc, dir.c_str());
         continue;
       }
       const Measures q = measure(out, boundary);
-      print_row(name.c_str(), peer_runs, median(t), q, femorph_s);
+      print_row(name.c_str(), peer_runs, median(t), q, femorph_s, repair_s);
       if (femorph_on) compare("TetGen", median(t), q.min_stretch);
     }
     // Gmsh: optimize("") and optimize("Relocate3D"), the optimize call timed;
@@ -720,11 +760,11 @@ int main(int argc, char** argv) {
       }
       const std::string name = std::string("gmsh ") + (*method ? method : "optimize (default)");
       if (!ok || !read_msh2(out_msh, out)) {
-        std::printf("%-26s failed: %s\n", name.c_str(), log.substr(0, 300).c_str());
+        std::printf("%-27s failed: %s\n", name.c_str(), log.substr(0, 300).c_str());
         continue;
       }
       const Measures q = measure(out, boundary);
-      print_row(name.c_str(), peer_runs, median(t), q, femorph_s);
+      print_row(name.c_str(), peer_runs, median(t), q, femorph_s, repair_s);
       const auto stats = log.find("nodes ");
       if (stats != std::string::npos) std::printf("    %s", log.substr(stats, log.find('\n', stats) - stats + 1).c_str());
       if (femorph_on) compare("Gmsh", median(t), q.min_stretch);

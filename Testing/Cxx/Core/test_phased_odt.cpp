@@ -180,6 +180,65 @@ TEST(PhasedOdt, TetMaskKeepsTheRestUnchanged) {
   EXPECT_GT(improved, 50u);  // the upper half was worked on
 }
 
+// poor_elements_only: the jittered half x < 0.45 of a perfect cube is
+// repaired, and the rest stays as it is: every input tet away from the
+// tets below 0.4 (the widest threshold of the repair: flips) and from their
+// neighbours keeps its vertices and their points.
+TEST(PhasedOdt, PoorElementsOnlyRepairsAndLeavesTheRest) {
+  const testing::TestMesh m = testing::make_cube_mesh(8, 0, 5);
+  TetMesh mesh = build(m);
+  {
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
+      if (mesh.on_boundary(v) || mesh.point(v).x() >= 0.45) continue;
+      const Vec3 d(u(rng), u(rng), u(rng));
+      mesh.move_vertex(v, mesh.point(v) + 0.4 * 0.125 * d);
+    }
+  }
+  const TetMesh input = mesh;
+  std::vector<char> near(static_cast<std::size_t>(input.vertex_slots()), 0);
+  std::vector<index_t> ring;
+  std::size_t poor = 0;
+  for (index_t t = 0; t < input.tet_slots(); ++t) {
+    const Tet& T = input.tet(t);
+    if (tet_stretch(input.point(T[0]), input.point(T[1]), input.point(T[2]), input.point(T[3])) >= 0.4) continue;
+    ++poor;
+    for (const index_t v : T) {
+      input.vertex_neighbors(v, ring);
+      near[v] = 1;
+      for (const index_t w : ring) near[w] = 1;
+    }
+  }
+  ASSERT_GT(poor, 50u);
+  PhasedOdtOptions options;
+  options.poor_elements_only = true;
+  const PhasedOdtStats stats = phased_odt(mesh, cube_geometry(), PhasedOdtTarget(), options);
+  ASSERT_TRUE(mesh.check_consistency().ok) << mesh.check_consistency().message;
+  const CompactMesh out = mesh.compact();
+  const ValidityReport report = check_validity(out.points, out.tets);
+  EXPECT_TRUE(report.ok()) << report.summary();
+  const Measured after = measure(out);
+  std::printf("poor elements only: min %.3f -> %.3f, mean %.3f -> %.3f, %zu tets below 0.4\n", stats.min_stretch_before,
+              after.min, stats.mean_stretch_before, after.mean, poor);
+  EXPECT_LT(stats.min_stretch_before, 0.1);
+  EXPECT_GE(after.min, 0.3);
+  EXPECT_EQ(stats.below_floor, 0u);
+  EXPECT_NEAR(after.volume, 1.0, 1e-12);
+  EXPECT_EQ(stats.collapses, 0u);  // no density control
+  std::size_t kept = 0, far = 0;
+  for (index_t t = 0; t < input.tet_slots(); ++t) {
+    const Tet& T = input.tet(t);
+    if (std::any_of(T.begin(), T.end(), [&](index_t v) { return near[v]; })) continue;
+    ++far;
+    const index_t s = mesh.find_face(T[0], T[1], T[2]);
+    kept += s >= 0 && mesh.local_index(s, T[3]) >= 0 &&
+            std::all_of(T.begin(), T.end(), [&](index_t v) { return mesh.point(v) == input.point(v); });
+  }
+  EXPECT_GT(far, input.live_tets() / 4);  // much of the good half is there to check
+  EXPECT_EQ(kept, far);
+}
+
 TEST(PhasedOdt, AbortLeavesAValidMesh) {
   const testing::TestMesh m = testing::make_cube_mesh(6, 0.1, 7);
   TetMesh mesh = build(m);
