@@ -182,8 +182,8 @@ TEST(PhasedOdt, TetMaskKeepsTheRestUnchanged) {
 
 // poor_elements_only: the jittered half x < 0.45 of a perfect cube is
 // repaired, and the rest stays as it is: every input tet away from the
-// tets below 0.4 (the widest threshold of the repair: flips) and from their
-// neighbours keeps its vertices and their points.
+// tets below the floor (0.3) and from their neighbours keeps its vertices
+// and their points.
 TEST(PhasedOdt, PoorElementsOnlyRepairsAndLeavesTheRest) {
   const testing::TestMesh m = testing::make_cube_mesh(8, 0, 5);
   TetMesh mesh = build(m);
@@ -202,7 +202,7 @@ TEST(PhasedOdt, PoorElementsOnlyRepairsAndLeavesTheRest) {
   std::size_t poor = 0;
   for (index_t t = 0; t < input.tet_slots(); ++t) {
     const Tet& T = input.tet(t);
-    if (tet_stretch(input.point(T[0]), input.point(T[1]), input.point(T[2]), input.point(T[3])) >= 0.4) continue;
+    if (tet_stretch(input.point(T[0]), input.point(T[1]), input.point(T[2]), input.point(T[3])) >= 0.3) continue;
     ++poor;
     for (const index_t v : T) {
       input.vertex_neighbors(v, ring);
@@ -219,7 +219,7 @@ TEST(PhasedOdt, PoorElementsOnlyRepairsAndLeavesTheRest) {
   const ValidityReport report = check_validity(out.points, out.tets);
   EXPECT_TRUE(report.ok()) << report.summary();
   const Measured after = measure(out);
-  std::printf("poor elements only: min %.3f -> %.3f, mean %.3f -> %.3f, %zu tets below 0.4\n", stats.min_stretch_before,
+  std::printf("poor elements only: min %.3f -> %.3f, mean %.3f -> %.3f, %zu tets below 0.3\n", stats.min_stretch_before,
               after.min, stats.mean_stretch_before, after.mean, poor);
   EXPECT_LT(stats.min_stretch_before, 0.1);
   EXPECT_GE(after.min, 0.3);
