@@ -71,7 +71,8 @@ struct PhasedOdtOptions {
   /// Beyond the thesis: repair only the poor tets and leave the rest of the
   /// mesh as it is, as Gmsh's and TetGen's optimizers do. Inverted and
   /// degenerated tets are removed (2.6.2), then the vertices of the tets
-  /// below quality_floor are smoothed (curves, surfaces, volume, with flips)
+  /// below quality_floor are smoothed (curves and surfaces odt_iterations
+  /// sweeps, volume one, with flips)
   /// and repair_tets_below_floor's passes run (vertex placement and flips
   /// for the tets below the floor only). No density or accuracy control and no
   /// sweep over the whole mesh: 2-2.5x faster than the phases, but a

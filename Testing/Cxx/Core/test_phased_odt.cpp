@@ -146,6 +146,11 @@ TEST(PhasedOdt, PerfectInputIsLeftAsItIs) {
   EXPECT_TRUE(stats.skipped);
   EXPECT_EQ(mesh.points(), m.points);
   EXPECT_EQ(mesh.compact().tets, m.tets);
+  // The same with Poor Elements Only: no tet below the floor, nothing to do.
+  PhasedOdtOptions repair;
+  repair.poor_elements_only = true;
+  EXPECT_TRUE(phased_odt(mesh, cube_geometry(), target, repair).skipped);
+  EXPECT_EQ(mesh.points(), m.points);
 
   TetMesh jittered = build(testing::make_cube_mesh(6, 0.1, 1));
   jitter_inner(jittered, 2);
