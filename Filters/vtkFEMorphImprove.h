@@ -92,8 +92,8 @@ public:
    * not used for a density target (ImproveDensityError is NaN). Much faster
    * than the phased loop, but a stretched region keeps its stretched
    * elements and a lower minimum (benchmark boss, 528,000 tets, x1.6:
-   * minimum 0.244 in 1.5-1.9 s against 0.344 in 3.8-5.1 s; x3: 0.190 in
-   * 3.5-4.0 s against 0.322 in 9-9.6 s). Its time is reported under the
+   * minimum 0.25 in 1.2-1.3 s against 0.344 in 3.8-5.1 s; x3: 0.19 in
+   * 2.8-4.0 s against 0.322 in 8.7-9.9 s). Its time is reported under the
    * steps Removal, Smoothing and Finishing. Default off.
    */
   vtkSetMacro(PoorElementsOnly, vtkTypeBool);

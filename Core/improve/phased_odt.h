@@ -72,14 +72,14 @@ struct PhasedOdtOptions {
   /// mesh as it is, as Gmsh's and TetGen's optimizers do. Inverted and
   /// degenerated tets are removed (2.6.2), then the vertices of the tets
   /// below quality_floor are smoothed (curves and surfaces odt_iterations
-  /// sweeps, volume one, with flips)
-  /// and repair_tets_below_floor's passes run (vertex placement and flips
-  /// for the tets below the floor only). No density or accuracy control and no
-  /// sweep over the whole mesh: 2-2.5x faster than the phases, but a
-  /// stretched region keeps its stretched edges and a lower minimum
-  /// (benchmark x1.6: 0.25 in 1.3 s against 0.344 in 3.8-5.1 s; x3: 0.19 in
-  /// 3.0 s against 0.322 in 9-9.6 s). Tets away from those below the floor
-  /// and their neighbours stay as they are.
+  /// sweeps, volume one, with flips) and repair_tets_below_floor's passes
+  /// run (vertex placement and flips for the tets below the floor only).
+  /// No density or accuracy control and no sweep over the whole mesh: 2.5-3x
+  /// faster than the phases, but a stretched region keeps its stretched
+  /// edges and a lower minimum (benchmark x1.6: 0.25 in 1.2-1.3 s against
+  /// 0.344 in 3.8-5.1 s; x3: 0.19 in 2.8-4.0 s against 0.322 in 8.7-9.9 s).
+  /// Tets away from those below the floor and their neighbours stay as they
+  /// are.
   bool poor_elements_only = false;
   /// Restriction to a region (Deform, Adapt): one flag per tet slot; only
   /// vertices all of whose tets are flagged move, and only edges between such
