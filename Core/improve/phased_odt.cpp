@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 
 namespace femorph {
 
@@ -313,6 +314,19 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
     const InvertedRemovalStats is = remove_inverted_elements(mesh, io);
     stats.removed_inverted += is.initial_inverted - is.remaining_inverted;
   };
+  // Fig. 2.34 (B): slivers, caps and spades among the vertices of `mask`
+  // (`touched`: the vertices changed, when given).
+  const auto remove_degenerate = [&](std::vector<std::uint8_t> mask, std::vector<char>* touched) {
+    DegenerateRemovalOptions dro;
+    dro.stretch_threshold = options.degenerate_threshold;
+    dro.project = project;
+    dro.vertex_mask = std::move(mask);
+    dro.touched = touched;
+    const DegenerateRemovalStats ds = remove_degenerate_elements(mesh, dro);
+    stats.removed_slivers += ds.removed_slivers;
+    stats.removed_caps += ds.removed_caps;
+    stats.removed_spades += ds.removed_spades;
+  };
 
   if (options.skip_if_good && stats.inverted_before == 0 && stats.min_stretch_before >= options.quality_floor &&
       (options.poor_elements_only || needs_nothing(mesh, geometry, target, options))) {
@@ -340,18 +354,9 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
   if (options.poor_elements_only && report(0.0, "poor elements")) {
     const auto phase_start = Clock::now();
     Clock::time_point t = phase_start;
-    if (options.remove_degenerate) {
-      DegenerateRemovalOptions dro;
-      dro.stretch_threshold = options.degenerate_threshold;
-      dro.project = project;
-      dro.vertex_mask = movable_vertices(mesh, options);
-      const DegenerateRemovalStats ds = remove_degenerate_elements(mesh, dro);
-      stats.removed_slivers += ds.removed_slivers;
-      stats.removed_caps += ds.removed_caps;
-      stats.removed_spades += ds.removed_spades;
-      if (options.remove_inverted && count_inverted(mesh) > 0) remove_inverted();
-      t = lap(Step::Removal, t);
-    }
+    if (options.remove_degenerate) remove_degenerate(movable_vertices(mesh, options), nullptr);
+    if (options.remove_inverted && count_inverted(mesh) > 0) remove_inverted();
+    t = lap(Step::Removal, t);
     if (report(0.2, "poor elements")) {
       smooth_boundary_near_poor_tets(mesh, geometry, target, options, stats);
       // One ODT sweep: the passes after it place these vertices one by one
@@ -383,17 +388,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
       // (B) degenerated and inverted element removal (2.6.2).
       std::vector<char> touched;  // by this loop's operations (boundary phases)
       bool inverted_removed = false;  // not marked in `touched`
-      if (options.remove_degenerate) {
-        DegenerateRemovalOptions dro;
-        dro.stretch_threshold = options.degenerate_threshold;
-        dro.project = project;
-        dro.vertex_mask = movable;
-        if (phase < 2) dro.touched = &touched;
-        const DegenerateRemovalStats ds = remove_degenerate_elements(mesh, dro);
-        stats.removed_slivers += ds.removed_slivers;
-        stats.removed_caps += ds.removed_caps;
-        stats.removed_spades += ds.removed_spades;
-      }
+      if (options.remove_degenerate) remove_degenerate(movable, phase < 2 ? &touched : nullptr);
       if (options.remove_inverted && count_inverted(mesh) > 0) {
         remove_inverted();
         inverted_removed = true;
