@@ -36,21 +36,43 @@ double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, i
 }
 
 MovingBall::MovingBall(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v) {
+  opposite_.reserve(ball.size());
+  for (const index_t t : ball) add(mesh, t, mesh.local_index(t, v));
+  start_order(mesh.point(v));
+}
+
+MovingBall::MovingBall(const TetMesh& mesh, const std::vector<index_t>& ring, index_t a, index_t b,
+                       const Vec3& start) {
+  opposite_.reserve(2 * ring.size());
+  for (const index_t t : ring) {
+    add(mesh, t, mesh.local_index(t, a));
+    add(mesh, t, mesh.local_index(t, b));
+  }
+  start_order(start);
+}
+
+void MovingBall::add(const TetMesh& mesh, index_t t, int local) {
   // (v, a, b, c) an even permutation of the tet for v at local index 0..3.
   static constexpr int kOrder[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {2, 1, 0}};
-  opposite_.reserve(ball.size());
-  for (const index_t t : ball) {
-    const Tet& T = mesh.tet(t);
-    const int i = mesh.local_index(t, v);
-    Opposite o;
-    o.a = mesh.point(T[kOrder[i][0]]);
-    o.b = mesh.point(T[kOrder[i][1]]);
-    o.c = mesh.point(T[kOrder[i][2]]);
-    const Vec3 ab = o.b - o.a, ac = o.c - o.a;
-    o.max_squared = std::max({ab.squaredNorm(), ac.squaredNorm(), (o.c - o.b).squaredNorm()});
-    o.area2 = ab.cross(ac).norm();
-    opposite_.push_back(o);
+  const Tet& T = mesh.tet(t);
+  Opposite o;
+  o.a = mesh.point(T[kOrder[local][0]]);
+  o.b = mesh.point(T[kOrder[local][1]]);
+  o.c = mesh.point(T[kOrder[local][2]]);
+  const Vec3 ab = o.b - o.a, ac = o.c - o.a;
+  o.max_squared = std::max({ab.squaredNorm(), ac.squaredNorm(), (o.c - o.b).squaredNorm()});
+  o.area2 = ab.cross(ac).norm();
+  opposite_.push_back(o);
+}
+
+void MovingBall::start_order(const Vec3& p) {
+  order_.resize(opposite_.size());
+  at_.resize(opposite_.size());
+  for (std::size_t k = 0; k < opposite_.size(); ++k) {
+    order_[k] = static_cast<std::uint32_t>(k);
+    at_[k] = stretch(opposite_[k], p);
   }
+  sort_order();
 }
 
 // Eq. 1.1 as tet_stretch computes it, 2 sqrt(6) det / (L_max S), with the
@@ -84,16 +106,30 @@ bool MovingBall::exceeds(const Vec3& p, double bound, double* min) {
   const std::size_t n = opposite_.size();
   double q = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t i = first_ + k < n ? first_ + k : first_ + k - n;
+    const std::uint32_t i = order_[k];
     const double s = stretch(opposite_[i], p);
     if (!(s > bound)) {
-      first_ = i;
+      // Tried first next time.
+      std::rotate(order_.begin(), order_.begin() + static_cast<std::ptrdiff_t>(k),
+                  order_.begin() + static_cast<std::ptrdiff_t>(k) + 1);
       return false;
     }
+    at_[i] = s;  // all rewritten before sort_order() reads them
     q = std::min(q, s);
   }
+  sort_order();
   *min = q;
   return true;
+}
+
+void MovingBall::sort_order() {
+  // Insertion sort: the order changes little from one position to the next.
+  for (std::size_t k = 1; k < order_.size(); ++k) {
+    const std::uint32_t i = order_[k];
+    std::size_t j = k;
+    for (; j > 0 && at_[order_[j - 1]] > at_[i]; --j) order_[j] = order_[j - 1];
+    order_[j] = i;
+  }
 }
 
 bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,

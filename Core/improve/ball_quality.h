@@ -6,6 +6,7 @@
 #include "mesh/tet_mesh.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -25,12 +26,19 @@ double ball_min_stretch(const TetMesh& mesh, const std::vector<index_t>& ball, i
 class MovingBall {
  public:
   MovingBall(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v);
+  /// The ball of a vertex v that would split the inner edge (a, b), before
+  /// the split (read only): each tet of the edge's ring becomes two, with v
+  /// in a's place and in b's (TetMesh::split_edge); the search order starts
+  /// from the stretches with v at `start`.
+  MovingBall(const TetMesh& mesh, const std::vector<index_t>& ring, index_t a, index_t b, const Vec3& start);
   /// Minimum stretch (Eq. 1.1) over the ball with v at p.
   double min_stretch(const Vec3& p) const;
   /// Whether the minimum stretch with v at p exceeds `bound` (then it is
-  /// written to *min). Stops at the first tet at or below `bound`, and tries
-  /// that tet first next time: the tet that limits a search rarely changes,
-  /// so most rejected positions cost one tet instead of the ball.
+  /// written to *min). Tries the tets in the order of their stretch at the
+  /// last position that exceeded (v's own at first), lowest first, the tet
+  /// that stopped the last try in front, and stops at the first tet at or
+  /// below `bound`: the tets that limit a search change little, so most
+  /// rejected positions cost one or two tets instead of the ball.
   bool exceeds(const Vec3& p, double bound, double* min);
 
  private:
@@ -40,8 +48,12 @@ class MovingBall {
     double area2;          ///< |ab x ac|: twice the area of face abc
   };
   double stretch(const Opposite& o, const Vec3& p) const;
+  void add(const TetMesh& mesh, index_t t, int local);  ///< tet t with v at its local vertex `local`
+  void start_order(const Vec3& p);  ///< the search order for v at p
+  void sort_order();  ///< order_ by at_, lowest first
   std::vector<Opposite> opposite_;
-  std::size_t first_ = 0;
+  std::vector<std::uint32_t> order_;  ///< the order exceeds() tries the tets in
+  std::vector<double> at_;            ///< stretches at the last position that exceeded
 };
 
 /// The quality guard of the smoothing steps (beyond the thesis): moving v

@@ -23,37 +23,46 @@ double compass_search_in_ball(TetMesh& mesh, index_t v, const std::vector<index_
   for (const index_t t : ball)
     for (const index_t w : mesh.tet(t))
       if (w != v) neighbours.push_back(w);
-  std::sort(neighbours.begin(), neighbours.end());
-  neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
   Vec3 x = mesh.point(v);
-  double len = 0;
-  for (const index_t w : neighbours) len += (mesh.point(w) - x).norm();
-  double step = 0.25 * len / static_cast<double>(std::max<std::size_t>(1, neighbours.size()));
   MovingBall moving(mesh, ball, v);
-  const double start = moving.min_stretch(x);
-  double best = start;
-  for (int halving = 0; halving < 10; ++halving, step *= 0.5) {
-    bool moved = true;
-    while (moved) {
-      moved = false;
-      for (int d = 0; d < 6; ++d) {
-        Vec3 y = x;
-        y[d / 2] += d % 2 ? -step : step;
-        double q;
-        if (moving.exceeds(y, best, &q)) {
-          best = q;
-          x = y;
-          moved = true;
-        }
-      }
-    }
-  }
+  double start;
+  const double best = compass_search(moving, compass_start_step(mesh, neighbours, x), &x, &start);
   // Stretch > 0 means positive volume, but the exact test decides.
   if (best > start && mesh.move_vertex_in_ball(v, x, ball) == OpStatus::Ok) return best;
   return start;
 }
 
 }  // namespace
+
+double compass_start_step(const TetMesh& mesh, std::vector<index_t>& neighbours, const Vec3& x) {
+  std::sort(neighbours.begin(), neighbours.end());
+  neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
+  double len = 0;
+  for (const index_t w : neighbours) len += (mesh.point(w) - x).norm();
+  return 0.25 * len / static_cast<double>(std::max<std::size_t>(1, neighbours.size()));
+}
+
+double compass_search(MovingBall& ball, double step, Vec3* x, double* start_min) {
+  double best = ball.min_stretch(*x);
+  if (start_min) *start_min = best;
+  for (int halving = 0; halving < 10; ++halving, step *= 0.5) {
+    bool moved = true;
+    while (moved) {
+      moved = false;
+      for (int d = 0; d < 6; ++d) {
+        Vec3 y = *x;
+        y[d / 2] += d % 2 ? -step : step;
+        double q;
+        if (ball.exceeds(y, best, &q)) {
+          best = q;
+          *x = y;
+          moved = true;
+        }
+      }
+    }
+  }
+  return best;
+}
 
 double compass_search_vertex(TetMesh& mesh, index_t v) {
   thread_local std::vector<index_t> ball, neighbours;

@@ -13,6 +13,7 @@
 
 namespace femorph {
 
+class MovingBall;
 class TetMesh;
 
 struct WorstVertexOptions {
@@ -34,6 +35,17 @@ struct WorstVertexStats {
 /// times) moving the vertex while the minimum stretch of its ball rises. Every
 /// accepted position keeps the ball positive (exact test). Deterministic.
 WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions& options = {});
+
+/// The compass search of the two functions below, on a ball given: from
+/// *x, the six axis directions with `step`, halved ten times, moving *x
+/// while the ball's minimum stretch rises. Returns that minimum at the
+/// final *x (and the one at the start in *start_min). Read only on the mesh
+/// (the caller applies the move).
+double compass_search(MovingBall& ball, double step, Vec3* x, double* start_min = nullptr);
+
+/// The first step of the compass search at x: a quarter of the mean
+/// distance from x to `neighbours` (sorted and made unique here).
+double compass_start_step(const TetMesh& mesh, std::vector<index_t>& neighbours, const Vec3& x);
 
 /// Moves inner vertex v by compass search (axis directions, step a quarter
 /// of its mean edge length, halved ten times) while the minimum stretch of

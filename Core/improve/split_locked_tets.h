@@ -31,11 +31,13 @@ struct LockedTetStats {
 };
 
 /// For each tet below the threshold whose vertices are all on the boundary,
-/// lowest stretch first: splits its longest interior edge at the midpoint,
-/// then moves the new vertex by compass search to maximise the minimum
-/// stretch of its ball. The split is kept only when that minimum beats the
-/// worst tet around the edge before; otherwise it is undone (half-edge
-/// collapse). Deterministic.
+/// lowest stretch first: its interior edges, longest first; the first whose
+/// split at the midpoint, with the new vertex then moved by compass search
+/// to maximise the minimum stretch of its ball, beats the worst tet around
+/// the edge before is split, and the new vertex placed there. Each tet is
+/// evaluated before any change (read only), in batches in parallel; a tet
+/// whose evaluation an earlier split of its batch made stale goes into the
+/// next batch. Deterministic, for any number of threads.
 LockedTetStats split_locked_tets(TetMesh& mesh, const LockedTetOptions& options = {});
 
 }  // namespace femorph
