@@ -268,6 +268,70 @@ TEST(ImproveVolume, SplittingTetsBelowThresholdNeverLowersTheMinimum) {
   EXPECT_NEAR(testing::total_volume(out.points, out.tets), volume, 1e-12 * volume);
 }
 
+// The last resort is evaluated in parallel batches: the same splits, at
+// the same positions, for 1 and 2 threads; and more than a batch's worth of
+// tets below the threshold, so that batches defer stale evaluations.
+TEST(ImproveVolume, SplittingTetsBelowThresholdDoesNotDependOnThreadCount) {
+  double volume = 0, undeformed_mean = 0;
+  const TetMesh m = perturbed_cube(&volume, &undeformed_mean);
+  TetMesh one = m, two = m;
+  LockedTetOptions options;
+  options.threshold = 0.45;
+  options.only_locked = false;
+  const LockedTetStats r1 = testing::with_threads(1, [&] { return split_locked_tets(one, options); });
+  const LockedTetStats r2 = testing::with_threads(2, [&] { return split_locked_tets(two, options); });
+  std::printf("below 0.45: %zu, splits %zu / %zu\n", r1.locked, r1.splits, r2.splits);
+  EXPECT_GT(r1.locked, 600u);
+  EXPECT_GT(r1.splits, 100u);
+  EXPECT_EQ(r1.splits, r2.splits);
+  ASSERT_EQ(one.vertex_slots(), two.vertex_slots());
+  EXPECT_EQ(points_differing(one, two), 0u);
+  ASSERT_EQ(one.tet_slots(), two.tet_slots());
+  for (index_t t = 0; t < one.tet_slots(); ++t) {
+    ASSERT_EQ(one.tet_alive(t), two.tet_alive(t));
+    if (one.tet_alive(t)) {
+      EXPECT_EQ(one.tet(t), two.tet(t));
+    }
+  }
+  const CompactMesh out = one.compact();
+  EXPECT_TRUE(check_validity(out.points, out.tets).ok());
+}
+
+// The ball of a vertex that would split an inner edge, built before the
+// split (MovingBall's split constructor, what split_locked_tets evaluates):
+// the same minimum stretch as the ball after a real split, for positions
+// around the midpoint.
+TEST(ImproveVolume, SplitBallAgreesWithRealSplit) {
+  double volume = 0, undeformed_mean = 0;
+  const TetMesh m = perturbed_cube(&volume, &undeformed_mean);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<index_t> ring, opposite, ball;
+  int checked = 0, negative = 0;
+  for (index_t t = 0; t < m.tet_slots() && checked < 600; t += 13) {
+    if (!m.tet_alive(t)) continue;
+    const index_t a = m.tet(t)[0], b = m.tet(t)[1];
+    bool boundary = true;
+    if (!m.edge_ring_with_vertices(a, b, ring, opposite, &boundary, t) || boundary) continue;
+    const Vec3 mid = 0.5 * (m.point(a) + m.point(b));
+    MovingBall virtual_ball(m, ring, a, b, mid);
+    TetMesh split = m;
+    index_t v = kInvalidIndex;
+    ASSERT_EQ(split.split_edge(a, b, nullptr, &v, t), OpStatus::Ok);
+    split.vertex_ball(v, ball);
+    ASSERT_EQ(ball.size(), 2 * ring.size());
+    for (int k = 0; k < 20; ++k) {
+      const Vec3 p = mid + 0.05 * Vec3(u(rng), u(rng), u(rng));
+      const double expected = ball_min_stretch(split, ball, v, p);
+      EXPECT_NEAR(virtual_ball.min_stretch(p), expected, 1e-12);
+      negative += expected < 0;
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 600);
+  EXPECT_GT(negative, 10);  // positions that invert a tet were tried
+}
+
 // The compass search's ball: the same stretches as tet_stretch for every
 // local position of the moving vertex (orientation kept: inverted positions
 // score negative), and exceeds() the same verdict as the full minimum.
