@@ -179,6 +179,7 @@ void vtkFEMorphImprove::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CollapseThreshold: " << this->CollapseThreshold << "\n";
   os << indent << "GridCellSize: " << this->GridCellSize << "\n";
   os << indent << "DegenerateThreshold: " << this->DegenerateThreshold << "\n";
+  os << indent << "QualityFloor: " << this->QualityFloor << "\n";
   os << indent << "RegionArrayName: " << this->RegionArrayName << "\n";
   os << indent << "SegmentIfMissing: " << this->SegmentIfMissing << "\n";
   os << indent << "RequireValid: " << this->RequireValid << "\n";
@@ -228,6 +229,13 @@ int vtkFEMorphImprove::RequestData(
                   << " and CollapseThreshold = " << beta2
                   << " do not converge; thesis 2.6.3 needs SplitThreshold > 2 x CollapseThreshold "
                      "and 1 + CollapseThreshold / 2 < SplitThreshold (defaults 1.5 and 0.67).");
+    return 0;
+  }
+  if (!(this->QualityFloor > this->DegenerateThreshold))
+  {
+    vtkErrorMacro(<< Label << ": QualityFloor = " << this->QualityFloor
+                  << " must be above DegenerateThreshold = " << this->DegenerateThreshold
+                  << " (the stretch below which tetrahedra are removed; defaults 0.3 and 0.05).");
     return 0;
   }
 
@@ -440,6 +448,7 @@ int vtkFEMorphImprove::RequestData(
     po.split_threshold = beta1;
     po.collapse_threshold = beta2;
     po.degenerate_threshold = this->DegenerateThreshold;
+    po.quality_floor = this->QualityFloor;
     po.tet_mask = tetMask;
     po.fix_boundary = !haveSegmentation;
     po.trace_quality = this->TraceQuality != 0;

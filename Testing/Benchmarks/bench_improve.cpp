@@ -28,7 +28,10 @@
 // and peer/PO (peer time over FEMorph's, over FEMorph's with Poor Elements
 // Only: the repair of the poor tets alone, as the peers do) use (Gmsh:
 // the optimize call only; TetGen: the whole process, reading and writing its
-// files included). --save=DIR writes FEMorph's output, improved_x<factor>.vtu.
+// files included). Poor Elements Only runs at the default Quality Floor
+// (0.3) and at 0.2, issue 5's minimum for case (b); the goal's verdict takes
+// the fastest FEMorph run whose output has at least the peer's minimum.
+// --save=DIR writes FEMorph's output, improved_x<factor>.vtu.
 // --no-phased runs FEMorph's Poor Elements Only alone (to time it quickly).
 //
 // Then (--no-uniform skips it) the density goal at that size against a
@@ -595,8 +598,8 @@ int main(int argc, char** argv) {
                 slab_lo, slab_hi, factor, in.tets, in.min_stretch, in.mean_stretch, in.min_dihedral);
     auto deformed_grid = to_grid(deformed);
 
-    double femorph_s = 0, repair_s = 0;
-    Measures fm, repair;
+    double femorph_s = 0, repair_s = 0, floor2_s = 0;
+    Measures fm, repair, floor2;
     std::vector<std::array<double, 2>> trace;  // (seconds, min stretch) of a traced FEMorph run
     // The time FEMorph's traced run first had a minimum stretch of at least
     // `min` (NaN: never).
@@ -606,14 +609,19 @@ int main(int argc, char** argv) {
       return std::numeric_limits<double>::quiet_NaN();
     };
     // The verdict of the issue's goal, faster than every peer at equal or
-    // better minimum quality, on outputs: the faster of FEMorph's two runs
-    // (the phased loop, Poor Elements Only) whose mesh has at least the
-    // peer's minimum stretch. The trace says when the full run passed it.
+    // better minimum quality, on outputs: the fastest of FEMorph's runs
+    // (the phased loop, Poor Elements Only at Quality Floor 0.3 and 0.2)
+    // whose mesh has at least the peer's minimum stretch. The trace says
+    // when the full run passed it.
     bool faster_than_all = true;
     const auto compare = [&](const char* peer, double peer_s, double peer_min) {
       double t = std::numeric_limits<double>::quiet_NaN();
       const char* which = "no run reached it";
-      if (repair.min_stretch >= peer_min) {
+      if (floor2.min_stretch >= peer_min) {
+        t = floor2_s;
+        which = "Poor Elements Only, Quality Floor 0.2";
+      }
+      if (repair.min_stretch >= peer_min && !(t <= repair_s)) {
         t = repair_s;
         which = "Poor Elements Only";
       }
@@ -674,23 +682,30 @@ int main(int argc, char** argv) {
       if (phased) fm = measure(to_mesh(improved), boundary);
       {
         // Poor Elements Only: the repair a user would compare with the
-        // peers' optimizers (no density recovery), median of --runs runs.
-        std::vector<double> repair_times;
-        vtkSmartPointer<vtkUnstructuredGrid> repaired;
-        for (int r = 0; r < runs; ++r) {
-          vtkNew<vtkFEMorphImprove> improve;
-          improve->SetInputData(segmented);
-          improve->SetReferenceData(reference);
-          improve->PoorElementsOnlyOn();
-          const auto t0 = Clock::now();
-          improve->Update();
-          repair_times.push_back(seconds_since(t0));
-          repaired = improve->GetOutput();
-        }
-        repair_s = median(repair_times);
-        repair = measure(to_mesh(repaired), boundary);
-        std::printf("FEMorph Improve, Poor Elements Only, last run: steps %s\n",
-                    field_summary(repaired, "ImproveStepTimes", "%s %.2f s").c_str());
+        // peers' optimizers (no density recovery), median of --runs runs;
+        // at the default Quality Floor (0.3) and at 0.2, issue 5's goal for
+        // case (b), for a user who needs no more.
+        const auto run_repair = [&](double quality_floor, Measures* out) {
+          std::vector<double> repair_times;
+          vtkSmartPointer<vtkUnstructuredGrid> repaired;
+          for (int r = 0; r < runs; ++r) {
+            vtkNew<vtkFEMorphImprove> improve;
+            improve->SetInputData(segmented);
+            improve->SetReferenceData(reference);
+            improve->PoorElementsOnlyOn();
+            improve->SetQualityFloor(quality_floor);
+            const auto t0 = Clock::now();
+            improve->Update();
+            repair_times.push_back(seconds_since(t0));
+            repaired = improve->GetOutput();
+          }
+          *out = measure(to_mesh(repaired), boundary);
+          std::printf("FEMorph Improve, Poor Elements Only, Quality Floor %.1f, last run: steps %s\n", quality_floor,
+                      field_summary(repaired, "ImproveStepTimes", "%s %.2f s").c_str());
+          return median(repair_times);
+        };
+        repair_s = run_repair(0.3, &repair);
+        floor2_s = run_repair(0.2, &floor2);
       }
       if (phased) {
         vtkDataArray* density = improved->GetFieldData()->GetArray("ImproveDensityError");
@@ -714,6 +729,7 @@ int main(int argc, char** argv) {
     if (femorph_on) {
       if (phased) print_row("FEMorph Improve", runs, femorph_s, fm, 0);
       print_row("FEMorph, Poor Elements Only", runs, repair_s, repair, 0);
+      print_row("  Quality Floor 0.2", runs, floor2_s, floor2, 0);
     }
     if (!peers) continue;
 

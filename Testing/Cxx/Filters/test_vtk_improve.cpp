@@ -457,6 +457,43 @@ TEST(Improve, PoorElementsOnly)
   EXPECT_GE(static_cast<double>(unmoved), 0.7 * static_cast<double>(in.Points.size()));
 }
 
+// QualityFloor: with Poor Elements Only at 0.2 instead of 0.3, the tets
+// below 0.2 are repaired (the minimum reaches most of the way) and more of
+// the mesh is left as it is: over 10% more input points where they were,
+// no more splits.
+TEST(Improve, QualityFloor)
+{
+  const StretchedBoss boss = StretchBoss(1.6);
+  ASSERT_NE(boss.Deformed, nullptr);
+  ImproveRun at3 = Improve(boss.Deformed, boss.Reference, [](vtkFEMorphImprove* f) { f->PoorElementsOnlyOn(); });
+  ImproveRun at2 = Improve(boss.Deformed, boss.Reference, [](vtkFEMorphImprove* f) {
+    f->PoorElementsOnlyOn();
+    f->SetQualityFloor(0.2);
+  });
+  ASSERT_LT(at3.Before.Min, 0.2);
+  ExpectGoals(at2, boss.Deformed, 0.15, 0.0);
+  EXPECT_GE(at2.After.Mean, at2.Before.Mean);
+  const Arrays in = ToArrays(boss.Deformed);
+  std::set<std::array<double, 3>> inputPoints;
+  for (const Vec3& p : in.Points)
+  {
+    inputPoints.insert({ p.x(), p.y(), p.z() });
+  }
+  const auto unmoved = [&](const ImproveRun& run) {
+    std::size_t n = 0;
+    for (const Vec3& p : run.Out.Points)
+    {
+      n += inputPoints.count({ p.x(), p.y(), p.z() });
+    }
+    return n;
+  };
+  std::printf("  floor 0.3: min %.3f, %zu points unmoved, %.0f splits; floor 0.2: min %.3f, %zu, %.0f\n",
+    at3.After.Min, unmoved(at3), Field(at3.Output, "ImproveCounts", "Splits"), at2.After.Min, unmoved(at2),
+    Field(at2.Output, "ImproveCounts", "Splits"));
+  EXPECT_GT(unmoved(at2), unmoved(at3) + unmoved(at3) / 10);
+  EXPECT_LE(Field(at2.Output, "ImproveCounts", "Splits"), Field(at3.Output, "ImproveCounts", "Splits"));
+}
+
 // TraceQuality records the minimum stretch after every step: from the
 // input's minimum to the output's, at times that grow within the run, and
 // the mesh is the same as without it (the trace only reads). Off: no array.
@@ -876,6 +913,20 @@ TEST(Improve, BadInput)
     ASSERT_FALSE(messages->Errors.empty());
     EXPECT_NE(messages->Errors[0].find("converge"), std::string::npos) << messages->Errors[0];
   }
+  // A quality floor at or below the degenerate threshold.
+  {
+    auto grid = femorph_test::MakeTwoTets();
+    vtkNew<femorph_test::MessageRecorder> messages;
+    vtkNew<vtkFEMorphImprove> improve;
+    messages->Observe(improve);
+    improve->SetInputData(grid);
+    improve->SetDegenerateThreshold(0.1);
+    improve->SetQualityFloor(0.1);
+    improve->Update();
+    ASSERT_FALSE(messages->Errors.empty());
+    EXPECT_NE(messages->Errors[0].find("QualityFloor"), std::string::npos) << messages->Errors[0];
+    EXPECT_EQ(improve->GetOutput()->GetNumberOfCells(), 0);
+  }
   // An inverted tet no local operation can repair (two tets on the same
   // side of their shared face, all five points corners): an error naming
   // it, or with RequireValid off the mesh with it marked.
@@ -960,6 +1011,7 @@ TEST(Improve, XmlDefaultsEqualCxxDefaults)
     { "SetGridCellSize", { d->GetGridCellSize(), d->GetGridCellSizeMinValue(), d->GetGridCellSizeMaxValue() } },
     { "SetDegenerateThreshold",
       { d->GetDegenerateThreshold(), d->GetDegenerateThresholdMinValue(), d->GetDegenerateThresholdMaxValue() } },
+    { "SetQualityFloor", { d->GetQualityFloor(), d->GetQualityFloorMinValue(), d->GetQualityFloorMaxValue() } },
     { "SetSegmentIfMissing", flag(d->GetSegmentIfMissing()) },
     { "SetRequireValid", flag(d->GetRequireValid()) },
     { "SetTraceQuality", { double(d->GetTraceQuality()), 0, 1, true } },
