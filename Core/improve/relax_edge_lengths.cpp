@@ -6,16 +6,32 @@
 #include "mesh/tet_mesh.h"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace femorph {
 
 bool spring_rest(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v,
                  const std::function<double(const Vec3&)>& density, std::vector<index_t>& neighbours, Vec3* step,
                  double* mean_length) {
+  // Each neighbour once, in the order met (the sum below adds in that
+  // order): stamped per vertex slot, not searched for in the list (the
+  // search took 40% of the relaxation at 0.9M tets).
+  thread_local std::vector<std::uint32_t> seen;
+  thread_local std::uint32_t stamp = 0;
+  if (seen.size() < static_cast<std::size_t>(mesh.vertex_slots()))
+    seen.resize(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  if (++stamp == 0) {
+    std::fill(seen.begin(), seen.end(), 0);
+    stamp = 1;
+  }
+  seen[static_cast<std::size_t>(v)] = stamp;
   neighbours.clear();
   for (const index_t t : ball)
     for (const index_t w : mesh.tet(t))
-      if (w != v && std::find(neighbours.begin(), neighbours.end(), w) == neighbours.end()) neighbours.push_back(w);
+      if (seen[static_cast<std::size_t>(w)] != stamp) {
+        seen[static_cast<std::size_t>(w)] = stamp;
+        neighbours.push_back(w);
+      }
   const Vec3 x = mesh.point(v);
   Vec3 sum = Vec3::Zero();
   double sum_len = 0;
