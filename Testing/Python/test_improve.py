@@ -107,11 +107,12 @@ def jitter_inner(points, tets, fraction, seed):
     return p
 
 
-def run(name, grid, reference, min_goal, undeformed_mean, planar_volume, density_goal=None, poor_only=False):
+def run(name, grid, reference, min_goal, undeformed_mean, planar_volume, density_goal=None, poor_only=False,
+        quality_floor=None):
     """Segment + Improve through the plugin, then the numpy checks; with
     density_goal, the density error after at most that; with poor_only,
-    Poor Elements Only (no density target). undeformed_mean None: the mean
-    stretch must not drop below the input's."""
+    Poor Elements Only (no density target); quality_floor sets QualityFloor.
+    undeformed_mean None: the mean stretch must not drop below the input's."""
     source = TrivialProducer()
     source.GetClientSideObject().SetOutput(grid)
     segment = FEMorphSegment(Input=source)  # noqa: F821 (defined by LoadPlugin)
@@ -124,6 +125,8 @@ def run(name, grid, reference, min_goal, undeformed_mean, planar_volume, density
         improve = FEMorphImprove(Input=segment)  # noqa: F821
     if poor_only:
         improve.PoorElementsOnly = 1
+    if quality_floor is not None:
+        improve.QualityFloor = quality_floor
     points_in = vtk_to_numpy(grid.GetPoints().GetData()).copy()
     improve.UpdatePipeline()
     out = servermanager.Fetch(improve)
@@ -210,6 +213,9 @@ def main():
         run(part + " (a)", jittered, None, 0.3, mean, False)
         # The repair alone: the poor tets only, the rest as it is.
         run(part + " (a) poor only", jittered, None, 0.25, None, False, poor_only=True)
+        # A user who needs less: the tets below 0.2 repaired.
+        run(part + " (a) poor only, floor 0.2", jittered, None, 0.18, None, False, poor_only=True,
+            quality_floor=0.2)
     if args.shaft and os.path.exists(args.shaft):
         shaft = read_vtu(args.shaft)
         ps, ts = arrays(shaft)
@@ -226,6 +232,8 @@ def main():
                 density_goal=0.15)
             run("welle_gearbox_shaft (b) x%.1f poor only" % factor, grid_from(longer, ts), shaft, 0.2, None,
                 False, poor_only=True)
+        run("welle_gearbox_shaft (b) x3.0 poor only, floor 0.2", grid_from(longer, ts), shaft, 0.18, None, False,
+            poor_only=True, quality_floor=0.2)
     else:
         print("  welle_gearbox_shaft: skipped (not meshed)")
     if args.onshape and os.path.exists(args.onshape):
