@@ -66,13 +66,13 @@ void MovingBall::add(const TetMesh& mesh, index_t t, int local) {
 }
 
 void MovingBall::start_order(const Vec3& p) {
+  std::vector<double> at(opposite_.size());
   order_.resize(opposite_.size());
-  at_.resize(opposite_.size());
   for (std::size_t k = 0; k < opposite_.size(); ++k) {
     order_[k] = static_cast<std::uint32_t>(k);
-    at_[k] = stretch(opposite_[k], p);
+    at[k] = stretch(opposite_[k], p);
   }
-  sort_order();
+  std::sort(order_.begin(), order_.end(), [&at](std::uint32_t x, std::uint32_t y) { return at[x] < at[y]; });
 }
 
 // Eq. 1.1 as tet_stretch computes it, 2 sqrt(6) det / (L_max S), with the
@@ -105,6 +105,7 @@ double MovingBall::min_stretch(const Vec3& p) const {
 bool MovingBall::exceeds(const Vec3& p, double bound, double* min) {
   const std::size_t n = opposite_.size();
   double q = std::numeric_limits<double>::infinity();
+  std::size_t lowest = 0;
   for (std::size_t k = 0; k < n; ++k) {
     const std::uint32_t i = order_[k];
     const double s = stretch(opposite_[i], p);
@@ -114,22 +115,16 @@ bool MovingBall::exceeds(const Vec3& p, double bound, double* min) {
                   order_.begin() + static_cast<std::ptrdiff_t>(k) + 1);
       return false;
     }
-    at_[i] = s;  // all rewritten before sort_order() reads them
-    q = std::min(q, s);
+    if (s < q) {
+      q = s;
+      lowest = k;
+    }
   }
-  sort_order();
+  // The lowest tet at the new position in front.
+  std::rotate(order_.begin(), order_.begin() + static_cast<std::ptrdiff_t>(lowest),
+              order_.begin() + static_cast<std::ptrdiff_t>(lowest) + 1);
   *min = q;
   return true;
-}
-
-void MovingBall::sort_order() {
-  // Insertion sort: the order changes little from one position to the next.
-  for (std::size_t k = 1; k < order_.size(); ++k) {
-    const std::uint32_t i = order_[k];
-    std::size_t j = k;
-    for (; j > 0 && at_[order_[j - 1]] > at_[i]; --j) order_[j] = order_[j - 1];
-    order_[j] = i;
-  }
 }
 
 bool move_keeps_quality(const TetMesh& mesh, const std::vector<index_t>& ball, index_t v, const Vec3& p,

@@ -34,11 +34,11 @@ class MovingBall {
   /// Minimum stretch (Eq. 1.1) over the ball with v at p.
   double min_stretch(const Vec3& p) const;
   /// Whether the minimum stretch with v at p exceeds `bound` (then it is
-  /// written to *min). Tries the tets in the order of their stretch at the
-  /// last position that exceeded (v's own at first), lowest first, the tet
-  /// that stopped the last try in front, and stops at the first tet at or
-  /// below `bound`: the tets that limit a search change little, so most
-  /// rejected positions cost one or two tets instead of the ball.
+  /// written to *min). Tries the tets in the order of their stretch at v's
+  /// position, lowest first, and moves to the front the tet that stopped a
+  /// try and the lowest at a position that exceeded; stops at the first tet
+  /// at or below `bound`: the tets that limit a search change little, so
+  /// most rejected positions cost one or two tets instead of the ball.
   bool exceeds(const Vec3& p, double bound, double* min);
 
  private:
@@ -50,10 +50,8 @@ class MovingBall {
   double stretch(const Opposite& o, const Vec3& p) const;
   void add(const TetMesh& mesh, index_t t, int local);  ///< tet t with v at its local vertex `local`
   void start_order(const Vec3& p);  ///< the search order for v at p
-  void sort_order();  ///< order_ by at_, lowest first
   std::vector<Opposite> opposite_;
   std::vector<std::uint32_t> order_;  ///< the order exceeds() tries the tets in
-  std::vector<double> at_;            ///< stretches at the last position that exceeded
 };
 
 /// The quality guard of the smoothing steps (beyond the thesis): moving v
