@@ -631,9 +631,11 @@ int main(int argc, char** argv) {
       }
       const bool faster = t < peer_s;
       faster_than_all = faster_than_all && faster;
-      std::printf("    FEMorph at this minimum (%.3f) or better: %.2f s (%s; the phased loop's trace passed it after "
-                  "%.2f s): %s than %s\n",
-                  peer_min, t, which, reached(peer_min), faster ? "faster" : "slower", peer);
+      char traced[96] = "";  // with --no-phased there is no trace
+      if (!trace.empty())
+        std::snprintf(traced, sizeof traced, "; the phased loop's trace passed it after %.2f s", reached(peer_min));
+      std::printf("    FEMorph at this minimum (%.3f) or better: %.2f s (%s%s): %s than %s\n", peer_min, t, which, traced,
+                  faster ? "faster" : "slower", peer);
     };
     if (femorph_on) {
       std::vector<double> seg_times, times;
