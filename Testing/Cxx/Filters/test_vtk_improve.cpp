@@ -32,6 +32,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <random>
 #include <set>
@@ -900,33 +901,33 @@ TEST(Improve, BadInput)
     ASSERT_FALSE(messages->Errors.empty());
     EXPECT_NE(messages->Errors[0].find("NaN"), std::string::npos) << messages->Errors[0];
   }
-  // Density thresholds that do not converge (thesis 2.6.3).
-  {
+  // Settings the filter refuses: an error containing `word`, no output.
+  const auto expectRefused = [](const std::function<void(vtkFEMorphImprove*)>& set, const char* word) {
     auto grid = femorph_test::MakeTwoTets();
     vtkNew<femorph_test::MessageRecorder> messages;
     vtkNew<vtkFEMorphImprove> improve;
     messages->Observe(improve);
     improve->SetInputData(grid);
-    improve->SetSplitThreshold(1.2);
-    improve->SetCollapseThreshold(0.67);
+    set(improve);
     improve->Update();
-    ASSERT_FALSE(messages->Errors.empty());
-    EXPECT_NE(messages->Errors[0].find("converge"), std::string::npos) << messages->Errors[0];
-  }
-  // A quality floor at or below the degenerate threshold.
-  {
-    auto grid = femorph_test::MakeTwoTets();
-    vtkNew<femorph_test::MessageRecorder> messages;
-    vtkNew<vtkFEMorphImprove> improve;
-    messages->Observe(improve);
-    improve->SetInputData(grid);
-    improve->SetDegenerateThreshold(0.1);
-    improve->SetQualityFloor(0.1);
-    improve->Update();
-    ASSERT_FALSE(messages->Errors.empty());
-    EXPECT_NE(messages->Errors[0].find("QualityFloor"), std::string::npos) << messages->Errors[0];
+    ASSERT_FALSE(messages->Errors.empty()) << word;
+    EXPECT_NE(messages->Errors[0].find(word), std::string::npos) << messages->Errors[0];
     EXPECT_EQ(improve->GetOutput()->GetNumberOfCells(), 0);
-  }
+  };
+  // Density thresholds that do not converge (thesis 2.6.3).
+  expectRefused(
+    [](vtkFEMorphImprove* f) {
+      f->SetSplitThreshold(1.2);
+      f->SetCollapseThreshold(0.67);
+    },
+    "converge");
+  // A quality floor at or below the degenerate threshold.
+  expectRefused(
+    [](vtkFEMorphImprove* f) {
+      f->SetDegenerateThreshold(0.1);
+      f->SetQualityFloor(0.1);
+    },
+    "QualityFloor");
   // An inverted tet no local operation can repair (two tets on the same
   // side of their shared face, all five points corners): an error naming
   // it, or with RequireValid off the mesh with it marked.
