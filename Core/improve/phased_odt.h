@@ -66,7 +66,9 @@ struct PhasedOdtOptions {
   /// Beyond the thesis: the boundary steps (accuracy splits, surface flips,
   /// curve and surface smoothing) may not make a tet below this stretch
   /// that is also worse than the worst tet they replace; their vertices stay
-  /// on the boundary, where the volume phase cannot repair them.
+  /// on the boundary, where the volume phase cannot repair them. The tets
+  /// below it are what the finishing passes (and poor_elements_only
+  /// throughout) repair. The filter's QualityFloor.
   double quality_floor = 0.3;
   /// Beyond the thesis: repair only the poor tets and leave the rest of the
   /// mesh as it is, as Gmsh's and TetGen's optimizers do. Inverted and

@@ -16,20 +16,20 @@ bool spring_rest(const TetMesh& mesh, const std::vector<index_t>& ball, index_t 
   // Each neighbour once, in the order met (the sum below adds in that
   // order): stamped per vertex slot, not searched for in the list (the
   // search took 40% of the relaxation at 0.9M tets).
-  thread_local std::vector<std::uint32_t> seen;
-  thread_local std::uint32_t stamp = 0;
-  if (seen.size() < static_cast<std::size_t>(mesh.vertex_slots()))
-    seen.resize(static_cast<std::size_t>(mesh.vertex_slots()), 0);
-  if (++stamp == 0) {
-    std::fill(seen.begin(), seen.end(), 0);
-    stamp = 1;
+  thread_local TetMesh::VertexStamps seen;
+  if (seen.stamp.size() < static_cast<std::size_t>(mesh.vertex_slots()))
+    seen.stamp.resize(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  if (++seen.value == 0) {
+    std::fill(seen.stamp.begin(), seen.stamp.end(), 0);
+    seen.value = 1;
   }
-  seen[static_cast<std::size_t>(v)] = stamp;
+  const std::uint32_t stamp = seen.value;
+  seen.stamp[static_cast<std::size_t>(v)] = stamp;
   neighbours.clear();
   for (const index_t t : ball)
     for (const index_t w : mesh.tet(t))
-      if (seen[static_cast<std::size_t>(w)] != stamp) {
-        seen[static_cast<std::size_t>(w)] = stamp;
+      if (seen.stamp[static_cast<std::size_t>(w)] != stamp) {
+        seen.stamp[static_cast<std::size_t>(w)] = stamp;
         neighbours.push_back(w);
       }
   const Vec3 x = mesh.point(v);

@@ -59,38 +59,45 @@ void evaluate_locked_tet(const TetMesh& mesh, index_t t, LockedTet& e) {
   const Tet& T = e.tet;
   e.split = false;
   e.read.assign(T.begin(), T.end());
-  std::vector<index_t> ring, opposite, neighbours;
-  std::pair<double, std::pair<int, int>> edges[6];
+  // The interior edges with their rings (walked once), longest first.
+  struct InnerEdge {
+    double length;
+    index_t a, b;
+    std::vector<index_t> ring, opposite;
+  };
+  thread_local std::vector<InnerEdge> edges(6);
+  thread_local std::vector<index_t> neighbours;
   int count = 0;
   for (int i = 0; i < 4; ++i)
     for (int j = i + 1; j < 4; ++j) {
+      InnerEdge& edge = edges[static_cast<std::size_t>(count)];
       bool boundary = true;
-      if (!mesh.edge_ring_with_vertices(T[i], T[j], ring, opposite, &boundary, t) || boundary) continue;
-      edges[count++] = {-(mesh.point(T[i]) - mesh.point(T[j])).norm(), {i, j}};
+      if (!mesh.edge_ring_with_vertices(T[i], T[j], edge.ring, edge.opposite, &boundary, t) || boundary) continue;
+      edge.length = (mesh.point(T[i]) - mesh.point(T[j])).norm();
+      edge.a = T[i];
+      edge.b = T[j];
+      ++count;
     }
-  // Longest first (an insertion sort: at most six; std::sort on the array
-  // trips GCC 12's -Warray-bounds).
-  for (int k = 1; k < count; ++k)
-    for (int j = k; j > 0 && edges[j] < edges[j - 1]; --j) std::swap(edges[j], edges[j - 1]);
+  // Stable, as the pairs (-length, (i, j)) sorted before.
+  std::stable_sort(edges.begin(), edges.begin() + count,
+                   [](const InnerEdge& x, const InnerEdge& y) { return x.length > y.length; });
   for (int k = 0; k < count; ++k) {
-    const index_t a = T[edges[k].second.first], b = T[edges[k].second.second];
-    bool boundary = true;
-    if (!mesh.edge_ring_with_vertices(a, b, ring, opposite, &boundary, t) || boundary) continue;
-    e.read.insert(e.read.end(), opposite.begin(), opposite.end());
-    const double before = min_stretch(mesh, ring);
-    Vec3 x = 0.5 * (mesh.point(a) + mesh.point(b));
-    neighbours.assign(opposite.begin(), opposite.end());
-    neighbours.push_back(a);
-    neighbours.push_back(b);
-    MovingBall ball(mesh, ring, a, b, x);
+    const InnerEdge& edge = edges[static_cast<std::size_t>(k)];
+    e.read.insert(e.read.end(), edge.opposite.begin(), edge.opposite.end());
+    const double before = min_stretch(mesh, edge.ring);
+    Vec3 x = 0.5 * (mesh.point(edge.a) + mesh.point(edge.b));
+    neighbours.assign(edge.opposite.begin(), edge.opposite.end());
+    neighbours.push_back(edge.a);
+    neighbours.push_back(edge.b);
+    MovingBall ball(mesh, edge.ring, edge.a, edge.b, x);
     if (compass_search(ball, compass_start_step(mesh, neighbours, x), &x, &e.at_midpoint) > before) {
       e.split = true;
       e.before = before;
-      e.a = a;
-      e.b = b;
+      e.a = edge.a;
+      e.b = edge.b;
       e.x = x;
-      e.ring = ring;
-      e.opposite = opposite;
+      e.ring = edge.ring;
+      e.opposite = edge.opposite;
       return;
     }
   }
