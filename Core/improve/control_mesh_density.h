@@ -70,7 +70,8 @@ struct DensityControlOptions {
   bool split_in_thirds = true;
   /// Beyond the thesis: a split pass merges an inner midpoint into an inner
   /// vertex it made earlier when the two are closer than beta2 of the
-  /// target (split_pass in control_mesh_density.cpp).
+  /// target (plan_merge in control_mesh_density.cpp): the split and the
+  /// merge are made as one TetMesh::flip_edge_to_fan, without the midpoint.
   bool merge_new_midpoints = true;
   /// When set: every vertex whose position or neighbours an accepted split,
   /// merge or collapse changed is set to 1 (the vector grows as needed), so

@@ -282,6 +282,17 @@ class TetMesh {
   /// when `diagonal` is 0, (c1, c3) when 1, where c0 is the opposite vertex
   /// order of edge_ring().
   OpStatus flip_44(index_t a, index_t b, int diagonal, index_t hint = kInvalidIndex);
+  /// Edge removal into a fan (flip n -> 2n - 4; flips 3-2 and 4-4 are
+  /// n = 3 and 4): the interior edge (a, b) goes, and each tet of its ring
+  /// that does not hold the ring vertex `apex` becomes two, with b and with
+  /// a replaced by apex; the two that hold apex vanish. The mesh a split of
+  /// (a, b) followed by the collapse of the new vertex into apex gives,
+  /// without making the vertex. ring / opposite as edge_ring_with_vertices()
+  /// lists them on the mesh as it is. Refused if a new tet would not be
+  /// positive or, with check_edges, if an edge (apex, c) it makes exists
+  /// already (a caller that checked this on the mesh as it is may skip it).
+  OpStatus flip_edge_to_fan(index_t a, index_t b, index_t apex, const std::vector<index_t>& ring,
+                            const std::vector<index_t>& opposite, bool check_edges = true);
   /// Surface edge flip (Fig. 2.45): the boundary edge (a, b), whose two
   /// boundary faces (a, b, c) and (b, a, d) lie in one region, becomes
   /// (c, d) by an edge split at the midpoint followed by the half-edge

@@ -408,6 +408,48 @@ TEST(SplitEdge, GivenRingGivesTheSameMesh) {
   expect_valid(given);
 }
 
+// The edge removal into a fan makes the mesh of a split followed by the
+// collapse of the new vertex into the apex, and refuses where that
+// collapse is refused (an edge it would make exists already, or a tet
+// would invert), leaving the mesh as it was.
+TEST(FlipEdgeToFan, MatchesSplitThenCollapse) {
+  const testing::TestMesh cube = testing::make_cube_mesh(4, 0.2, 11);
+  TetMesh mesh;
+  ASSERT_TRUE(mesh.build(cube.points, cube.tets).ok);
+  std::vector<index_t> ring, opposite, neighbours;
+  std::size_t done = 0, refused = 0;
+  for (index_t a = 0; a < mesh.vertex_slots(); ++a) {
+    if (mesh.on_boundary(a)) continue;
+    mesh.vertex_neighbors(a, neighbours);
+    for (const index_t b : neighbours) {
+      if (b < a || mesh.on_boundary(b)) continue;
+      bool boundary = false;
+      ASSERT_TRUE(mesh.edge_ring_with_vertices(a, b, ring, opposite, &boundary));
+      ASSERT_FALSE(boundary);
+      for (const index_t apex : opposite) {
+        TetMesh split = mesh, fan = mesh;
+        index_t m = -1;
+        ASSERT_EQ(split.split_edge(a, b, nullptr, &m), OpStatus::Ok);
+        const bool collapsed = split.half_edge_collapse(m, apex) == OpStatus::Ok;
+        const Snapshot before(fan);
+        const OpStatus s = fan.flip_edge_to_fan(a, b, apex, ring, opposite);
+        EXPECT_EQ(s == OpStatus::Ok, collapsed) << "edge " << a << "-" << b << " apex " << apex;
+        if (s == OpStatus::Ok && collapsed) {
+          ++done;
+          EXPECT_EQ(tet_sets(fan), tet_sets(split));
+          EXPECT_FALSE(fan.has_edge(a, b));
+          expect_valid(fan);
+        } else if (s != OpStatus::Ok) {
+          ++refused;
+          EXPECT_TRUE(Snapshot(fan) == before);
+        }
+      }
+    }
+  }
+  EXPECT_GT(done, 100u);
+  EXPECT_GT(refused, 10u);
+}
+
 // The collapse with the balls given (as Density control passes them) makes
 // the same mesh as the one that walks them, slot for slot, and refuses alike.
 TEST(CollapseEdge, GivenBallsGiveTheSameMesh) {
