@@ -12,6 +12,8 @@
 #include <numeric>
 #include <sstream>
 
+#include <omp.h>
+
 namespace femorph {
 
 const char* to_string(OpStatus status) {
@@ -131,29 +133,46 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
     r.code = static_cast<index_t>(4 * t + f);
     return r;
   };
+  // Each thread counts its own tets' faces per bucket and writes them into
+  // its own part of each bucket (the same static split of the tets in both
+  // loops): no atomics (they took 100 ms of 250 at 0.5M tets).
   std::vector<index_t> start(static_cast<std::size_t>(nv) + 1, 0);
-#pragma omp parallel for schedule(static) if (ntets >= kParallelMinItems)
-  for (long i = 0; i < ntets; ++i) {
-    const Tet& T = tets[static_cast<std::size_t>(i)];
-    for (int f = 0; f < 4; ++f) {
-      const index_t smallest = std::min({T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]});
-#pragma omp atomic
-      ++start[static_cast<std::size_t>(smallest) + 1];
-    }
-  }
-  std::partial_sum(start.begin(), start.end(), start.begin());
   const std::unique_ptr<FaceRecord[]> faces(new FaceRecord[4 * nt]);
   {
-    std::vector<index_t> fill(start.begin(), start.end() - 1);
-#pragma omp parallel for schedule(static) if (ntets >= kParallelMinItems)
-    for (long i = 0; i < ntets; ++i)
-      for (int f = 0; f < 4; ++f) {
-        const FaceRecord r = face_record(static_cast<std::size_t>(i), f);
-        index_t slot;
-#pragma omp atomic capture
-        slot = fill[static_cast<std::size_t>(r.v[0])]++;
-        faces[static_cast<std::size_t>(slot)] = r;
+    const int threads = ntets >= kParallelMinItems ? std::max(1, omp_get_max_threads()) : 1;
+    std::vector<std::vector<index_t>> fill(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads)
+    {
+      const int id = omp_get_thread_num();
+      std::vector<index_t>& mine = fill[static_cast<std::size_t>(id)];
+      mine.assign(static_cast<std::size_t>(nv), 0);
+#pragma omp for schedule(static)
+      for (long i = 0; i < ntets; ++i) {
+        const Tet& T = tets[static_cast<std::size_t>(i)];
+        for (int f = 0; f < 4; ++f)
+          ++mine[static_cast<std::size_t>(std::min({T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]}))];
       }
+      // Bucket starts, then each thread's offset inside each bucket.
+#pragma omp single
+      {
+        index_t next = 0;
+        for (index_t v = 0; v < nv; ++v) {
+          start[static_cast<std::size_t>(v)] = next;
+          for (std::vector<index_t>& counts : fill) {
+            const index_t n = counts[static_cast<std::size_t>(v)];
+            counts[static_cast<std::size_t>(v)] = next;
+            next += n;
+          }
+        }
+        start[static_cast<std::size_t>(nv)] = next;
+      }
+#pragma omp for schedule(static)
+      for (long i = 0; i < ntets; ++i)
+        for (int f = 0; f < 4; ++f) {
+          const FaceRecord r = face_record(static_cast<std::size_t>(i), f);
+          faces[static_cast<std::size_t>(mine[static_cast<std::size_t>(r.v[0])]++)] = r;
+        }
+    }
   }
   const auto by_key_then_code = [](const FaceRecord& x, const FaceRecord& y) {
     return x < y || (x.same_face(y) && x.code < y.code);
