@@ -92,8 +92,8 @@ public:
    * not used for a density target (ImproveDensityError is NaN). Much faster
    * than the phased loop, but a stretched region keeps its stretched
    * elements and a lower minimum (benchmark boss, 528,000 tets, x1.6:
-   * minimum 0.27 in 1.2-1.6 s against 0.344 in 3.6-5.1 s; x3: 0.21 in
-   * 2.4-2.8 s against 0.322 in 8.7-10.2 s; with QualityFloor 0.2, 0.20 in
+   * minimum 0.27 in 1.2-1.6 s against 0.35 in 3.2-5.1 s; x3: 0.21 in
+   * 2.4-2.8 s against 0.313 in 8.4-9.7 s; with QualityFloor 0.2, 0.20 in
    * 0.9 s and 0.19 in 1.2-1.3 s). Its time is reported under the steps Removal,
    * Smoothing and Finishing. Default off.
    */

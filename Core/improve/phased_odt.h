@@ -79,7 +79,7 @@ struct PhasedOdtOptions {
   /// No density or accuracy control and no sweep over the whole mesh: 2.5-3x
   /// faster than the phases, but a stretched region keeps its stretched
   /// edges and a lower minimum (benchmark x1.6: 0.27 in 1.2-1.6 s against
-  /// 0.344 in 3.6-5.1 s; x3: 0.21 in 2.4-2.8 s against 0.322 in 8.7-10.2 s;
+  /// 0.35 in 3.2-5.1 s; x3: 0.21 in 2.4-2.8 s against 0.313 in 8.4-9.7 s;
   /// with quality_floor 0.2, 0.20 in 0.9 s and 0.19 in 1.2-1.3 s).
   /// Tets away from those below the floor and their neighbours stay as they
   /// are.
