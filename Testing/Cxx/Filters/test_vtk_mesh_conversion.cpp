@@ -452,6 +452,45 @@ TEST(MeshConversion, WarnsAboutUnusedPoints)
   EXPECT_EQ(output->GetPointData()->GetArray("Label")->GetRange()[1], 40);
 }
 
+// ToTetMesh reads an int FaceRegion in place and any other numeric type
+// value by value: both give the same regions.
+TEST(MeshConversion, FaceRegionOfAnyNumericTypeGivesTheSameRegions)
+{
+  auto input = femorph_test::ReadPart("boss_block.vtu");
+  if (!input)
+  {
+    GTEST_SKIP() << "Data/boss_block.vtu not found";
+  }
+  femorph::TetMesh meshes[2];
+  for (int k = 0; k < 2; ++k)
+  {
+    vtkSmartPointer<vtkDataArray> regions;
+    if (k == 0)
+    {
+      regions = vtkSmartPointer<vtkIntArray>::New();
+    }
+    else
+    {
+      regions = vtkSmartPointer<vtkDoubleArray>::New();
+    }
+    regions->DeepCopy(input->GetCellData()->GetArray("CADFace"));
+    regions->SetName(Conversion::FaceRegionName);
+    input->GetCellData()->AddArray(regions);
+    ASSERT_TRUE(Conversion::ToTetMesh(input, "FEMorph Test", {}, meshes[k]).ok);
+  }
+  ASSERT_EQ(meshes[0].tet_slots(), meshes[1].tet_slots());
+  std::size_t withRegion = 0;
+  for (femorph::index_t t = 0; t < meshes[0].tet_slots(); ++t)
+  {
+    for (int f = 0; f < 4; ++f)
+    {
+      EXPECT_EQ(meshes[0].face_region(t, f), meshes[1].face_region(t, f));
+      withRegion += meshes[0].face_region(t, f) >= 0;
+    }
+  }
+  EXPECT_GT(withRegion, 1000u);
+}
+
 TEST(MeshConversion, WarnsAboutMalformedFaceRegion)
 {
   auto grid = MakeTwoTets();
