@@ -135,7 +135,7 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
   };
   // Each thread counts its own tets' faces per bucket and writes them into
   // its own part of each bucket (the same static split of the tets in both
-  // loops): no atomics (they took 100 ms of 250 at 0.5M tets).
+  // loops): no atomic counters (bench_tet_mesh, 1M tets: 407 -> 365 ms).
   std::vector<index_t> start(static_cast<std::size_t>(nv) + 1, 0);
   const std::unique_ptr<FaceRecord[]> faces(new FaceRecord[4 * nt]);
   {
@@ -155,12 +155,14 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
       // Bucket starts, then each thread's offset inside each bucket.
 #pragma omp single
       {
+        const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());  // may be fewer than asked
         index_t next = 0;
         for (index_t v = 0; v < nv; ++v) {
           start[static_cast<std::size_t>(v)] = next;
-          for (std::vector<index_t>& counts : fill) {
-            const index_t n = counts[static_cast<std::size_t>(v)];
-            counts[static_cast<std::size_t>(v)] = next;
+          for (std::size_t k = 0; k < team; ++k) {
+            index_t& count = fill[k][static_cast<std::size_t>(v)];
+            const index_t n = count;
+            count = next;
             next += n;
           }
         }

@@ -3,6 +3,7 @@
 #include "mesh/tet_mesh.h"
 #include "quality/check_validity.h"
 #include "test_meshes.h"
+#include "test_threads.h"
 
 #include <gtest/gtest.h>
 
@@ -373,6 +374,30 @@ TEST(CollapseEdge, RefusesInversionAndKeepsTheMesh) {
   ASSERT_EQ(m.half_edge_collapse(c, 0), OpStatus::Ok);
   EXPECT_EQ(tet_sets(m), sorted_sets({{0, 1, 2, 3}, {0, 1, 2, 4}}));
   expect_valid(m);
+}
+
+// The face matching runs in parallel from kParallelMinItems tets on; the
+// mesh it builds (tets, neighbours across each face, vertex classes) does
+// not depend on the number of threads.
+TEST(TetMeshBuild, DoesNotDependOnThreadCount) {
+  const testing::TestMesh cube = testing::make_cube_mesh(13, 0.2, 3);
+  ASSERT_GE(static_cast<long>(cube.tets.size()), kParallelMinItems);
+  TetMesh meshes[3];
+  for (int k = 0; k < 3; ++k) {
+    BuildOptions options;
+    options.face_regions = cube.face_regions;
+    ASSERT_TRUE(testing::with_threads(k + 1, [&] { return meshes[k].build(cube.points, cube.tets, options); }).ok);
+  }
+  for (int k = 1; k < 3; ++k) {
+    ASSERT_EQ(meshes[k].tet_slots(), meshes[0].tet_slots());
+    for (index_t t = 0; t < meshes[0].tet_slots(); ++t) {
+      ASSERT_EQ(meshes[k].tet(t), meshes[0].tet(t));
+      for (int f = 0; f < 4; ++f) ASSERT_EQ(meshes[k].adjacency(t, f), meshes[0].adjacency(t, f)) << t << " " << f;
+    }
+    for (index_t v = 0; v < meshes[0].vertex_slots(); ++v)
+      ASSERT_EQ(meshes[k].vertex_class(v), meshes[0].vertex_class(v));
+  }
+  expect_valid(meshes[2]);
 }
 
 // The split with the ring given (as Density control passes it) makes the
