@@ -200,11 +200,18 @@ void plan_merge(const TetMesh& mesh, const DensityGrid& grid, const DensityContr
     if (scaled_length(mesh, grid, options.lookup, into, w, &length) >= options.split_threshold) return;
   }
   // The link condition: no edge the merge makes (into to a ring vertex
-  // not next to it) may exist already, outside the ring.
+  // not next to it) may exist already, outside the ring, nor, with three
+  // ring tets, the face of the ring's vertices (a tet of into's ball with
+  // both other ring vertices: the ring's own hold only one of them).
   std::vector<index_t>& ball = e.merge_ball;
   mesh.vertex_ball(into, ball, marks);
   const std::size_t n = e.opposite.size();
   const std::size_t k = static_cast<std::size_t>(std::find(e.opposite.begin(), e.opposite.end(), into) - e.opposite.begin());
+  if (n == 3) {
+    const index_t u = e.opposite[(k + 1) % 3], w = e.opposite[(k + 2) % 3];
+    for (const index_t t : ball)
+      if (mesh.local_index(t, u) >= 0 && mesh.local_index(t, w) >= 0) return;
+  }
   for (std::size_t j = 0; j < n; ++j) {
     if (j == k || j == (k + 1) % n || (j + 1) % n == k) continue;
     const index_t w = e.opposite[j];

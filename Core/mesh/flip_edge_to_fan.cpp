@@ -28,10 +28,14 @@ OpStatus TetMesh::flip_edge_to_fan(index_t a, index_t b, index_t apex, const std
     }
   }
   // The new edges: apex to the ring vertices other than itself and its two
-  // ring neighbours. Topology after geometry: the edge search walks a ball.
-  if (check_edges)
+  // ring neighbours; with three, none, but the new face of the ring's
+  // vertices (as in flip 3-2). Topology after geometry: the searches walk
+  // a ball.
+  if (check_edges) {
+    if (n == 3 && find_face(c[0], c[1], c[2]) >= 0) return OpStatus::DuplicateEntity;
     for (std::size_t j = 0; j < n; ++j)
       if (j != k && j != (k + 1) % n && (j + 1) % n != k && has_edge(apex, c[j])) return OpStatus::DuplicateEntity;
+  }
   replace_tets(ring, scratch_new_, scratch_origin_, kInvalidIndex, kInvalidIndex);
   return OpStatus::Ok;
 }

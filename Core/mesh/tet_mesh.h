@@ -289,8 +289,9 @@ class TetMesh {
   /// (a, b) followed by the collapse of the new vertex into apex gives,
   /// without making the vertex. ring / opposite as edge_ring_with_vertices()
   /// lists them on the mesh as it is. Refused if a new tet would not be
-  /// positive or, with check_edges, if an edge (apex, c) it makes exists
-  /// already (a caller that checked this on the mesh as it is may skip it).
+  /// positive or, with check_edges, if an edge (apex, c) it makes (with
+  /// three ring tets: the face of the ring's vertices) exists already (a
+  /// caller that checked this on the mesh as it is may skip it).
   OpStatus flip_edge_to_fan(index_t a, index_t b, index_t apex, const std::vector<index_t>& ring,
                             const std::vector<index_t>& opposite, bool check_edges = true);
   /// Surface edge flip (Fig. 2.45): the boundary edge (a, b), whose two
