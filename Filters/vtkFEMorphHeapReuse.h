@@ -12,11 +12,9 @@
  * malloc_trim(0), so the process's footprint after the filter is what it
  * would be without it.
  *
- * Why: a page fault costs about 10 us on the benchmark's virtual machines
- * (measured: first write to each page of a 64 MiB map, 12 repeats), and
- * FEMorph Improve took about 150,000 of them on the 528k-tet benchmark
- * case; with this scope about 80,000 (the growth of the mesh), and 0.5 s
- * less system time.
+ * Why: a first write to a fresh page costs a page fault, and a run of
+ * FEMorph Improve allocates and frees large arrays many times; with this
+ * scope only the growth of the mesh faults new pages in.
  *
  * Elsewhere than glibc (and under AddressSanitizer) it does nothing.
  */

@@ -30,8 +30,10 @@
  * Input: a vtkUnstructuredGrid of VTK_HEXAHEDRON, VTK_VOXEL (taken in
  * hexahedron node order), VTK_WEDGE, VTK_PYRAMID and VTK_TETRA cells. Any
  * other cell type (2D cells, polyhedra, quadratic and higher-order cells...)
- * is an error naming each type and its count. No cells, NaN or infinite
- * coordinates, and cells using one point twice are errors too.
+ * is an error naming each type and its count. NaN or infinite coordinates,
+ * point ids out of range and cells using one point twice are errors too; an
+ * input without cells gives an empty output and a warning (the checks of
+ * vtkFEMorphAlgorithm, shared by every FEMorph filter).
  *
  * Output: VTK_TETRA cells over the input's points (the same vtkPoints; no
  * point is added or moved), point data and field data passed through, cell
@@ -63,13 +65,13 @@
 #define vtkFEMorphHexToTet_h
 
 #include "FEMorphFiltersModule.h" // For export macro
-#include "vtkUnstructuredGridAlgorithm.h"
+#include "vtkFEMorphAlgorithm.h"
 
-class FEMORPHFILTERS_EXPORT vtkFEMorphHexToTet : public vtkUnstructuredGridAlgorithm
+class FEMORPHFILTERS_EXPORT vtkFEMorphHexToTet : public vtkFEMorphAlgorithm
 {
 public:
   static vtkFEMorphHexToTet* New();
-  vtkTypeMacro(vtkFEMorphHexToTet, vtkUnstructuredGridAlgorithm);
+  vtkTypeMacro(vtkFEMorphHexToTet, vtkFEMorphAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// Thesis Fig. 4.5 types; the values of DecompositionType.
@@ -130,8 +132,7 @@ protected:
   vtkFEMorphHexToTet();
   ~vtkFEMorphHexToTet() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+  bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 
   // Defaults: femorph::HexToTetParams (set in the constructor).

@@ -20,10 +20,14 @@
  * segmentation arrays FEMorph Segment writes (FaceRegion, VertexClass,
  * RegionType, RegionParameters, curves). Without them the filter says so and
  * segments the mesh itself (SegmentIfMissing, default) or keeps every
- * boundary vertex where it is. Inverted tetrahedra are accepted (they are
- * what Improve repairs) when they are oriented consistently with their
- * neighbours; non-tetrahedral cells, NaN coordinates, a non-conforming or
- * non-manifold mesh are errors. The input is never modified.
+ * boundary vertex where it is; a mesh that carries some of them must carry
+ * all, valid (an error names the array and what is wrong: a region id that
+ * names no region, a short array, a NaN fit parameter...). Inverted
+ * tetrahedra are accepted (they are what Improve repairs) when they are
+ * oriented consistently with their neighbours; non-tetrahedral cells, NaN
+ * coordinates, a non-conforming or non-manifold mesh are errors. An input
+ * without cells gives an empty output and a warning. The input is never
+ * modified.
  *
  * Input 1 (`Reference`, optional): the mesh before the deformation. With the
  * input's connectivity (same points and cells), its vertex densities
@@ -65,15 +69,15 @@
 #define vtkFEMorphImprove_h
 
 #include "FEMorphFiltersModule.h" // For export macro
-#include "vtkUnstructuredGridAlgorithm.h"
+#include "vtkFEMorphAlgorithm.h"
 
 #include <string>
 
-class FEMORPHFILTERS_EXPORT vtkFEMorphImprove : public vtkUnstructuredGridAlgorithm
+class FEMORPHFILTERS_EXPORT vtkFEMorphImprove : public vtkFEMorphAlgorithm
 {
 public:
   static vtkFEMorphImprove* New();
-  vtkTypeMacro(vtkFEMorphImprove, vtkUnstructuredGridAlgorithm);
+  vtkTypeMacro(vtkFEMorphImprove, vtkFEMorphAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// The reference mesh (before the deformation), input port 1. Optional.
@@ -91,11 +95,9 @@ public:
    * accuracy control and no sweep over the whole mesh, so the Reference is
    * not used for a density target (ImproveDensityError is NaN). Much faster
    * than the phased loop, but a stretched region keeps its stretched
-   * elements and a lower minimum (benchmark boss, 528,000 tets, x1.6:
-   * minimum 0.27 in 1.2-1.6 s against 0.35 in 3.2-5.1 s; x3: 0.21 in
-   * 2.4-2.8 s against 0.313 in 8.4-9.7 s; with QualityFloor 0.2, 0.20 in
-   * 0.9 s and 0.19 in 1.2-1.3 s). Its time is reported under the steps Removal,
-   * Smoothing and Finishing. Default off.
+   * elements and a lower minimum (figures: Testing/Benchmarks/RESULTS.md).
+   * Its time is reported under the steps Removal, Smoothing and Finishing.
+   * Default off.
    */
   vtkSetMacro(PoorElementsOnly, vtkTypeBool);
   vtkGetMacro(PoorElementsOnly, vtkTypeBool);
@@ -152,10 +154,8 @@ public:
    * one sweep more, each toward where its edges have the target length
    * 1 / rho_GC (springs; no tet inverts and no ball's worst tet falls below
    * min(its stretch, 0.35) or loses more than 10%; surface vertices stay on
-   * their surface and within the acceptable geometric error). Benchmark:
-   * density error (Eq. 2.35) 0.164 -> 0.148 (x1.6) and 0.167 -> 0.150 (x3),
-   * mean stretch +0.02, minimum stretch 0.304 -> 0.319 at x3, 0.5-0.9 s
-   * more. Default on.
+   * their surface and within the acceptable geometric error). It lowers the
+   * density error (Eq. 2.35) at some extra time. Default on.
    */
   vtkSetMacro(RelaxEdgeLengths, vtkTypeBool);
   vtkGetMacro(RelaxEdgeLengths, vtkTypeBool);
@@ -239,9 +239,7 @@ public:
    * tetrahedra below it (vertex placement, splits, flips), and no boundary
    * step may make a tetrahedron below it that is worse than the worst one it
    * replaces. A lower floor leaves more of the mesh as it is and takes less
-   * time (benchmark, Poor Elements Only at x3: 0.3 gave a minimum of 0.21
-   * in about 2.5 s, 0.2 gave 0.19 in about 1.3 s). Above
-   * DegenerateThreshold, in [0.05, 0.6]. Default 0.3 (also the default of
+   * time. Above DegenerateThreshold, in [0.05, 0.6]. Default 0.3 (also the default of
    * Gmsh's optimizer threshold, in its own measure).
    */
   vtkSetClampMacro(QualityFloor, double, 0.05, 0.6);
@@ -253,7 +251,9 @@ public:
    * Name of a cell array (any numeric type) restricting the improvement to
    * the cells where it is nonzero, e.g. the cells Deform or Adapt moved.
    * Only vertices all of whose cells are flagged move or change. Empty
-   * (default): the whole mesh. A name that is not a cell array is an error.
+   * (default): the whole mesh. The array must be numeric, with one
+   * component and one finite value per cell; anything else (no such array,
+   * a string array, a short array, a NaN) is an error naming it.
    */
   vtkSetStdStringFromCharMacro(RegionArrayName);
   vtkGetCharFromStdStringMacro(RegionArrayName);
@@ -298,32 +298,35 @@ protected:
   vtkFEMorphImprove();
   ~vtkFEMorphImprove() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+  bool CheckProperties() override;
+  bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
+  std::string GetInputName(int port) override;
 
-  vtkTypeBool PoorElementsOnly = 0;
-  vtkTypeBool SmoothCurves = 1;
-  vtkTypeBool SmoothSurfaces = 1;
-  vtkTypeBool SmoothVolume = 1;
-  vtkTypeBool RemoveDegenerate = 1;
-  vtkTypeBool RemoveInverted = 1;
-  vtkTypeBool DensityControl = 1;
-  vtkTypeBool AccuracyControl = 1;
-  vtkTypeBool Flips = 1;
-  vtkTypeBool RelaxEdgeLengths = 1;
-  vtkTypeBool MoveUnfittedRegions = 1;
-  int OdtIterations = 2;
-  int MaxLoops = 8;
-  double SplitThreshold = 1.5;
-  double CollapseThreshold = 0.67;
-  double GridCellSize = 0.0;
-  double DegenerateThreshold = 0.05;
-  double QualityFloor = 0.3;
+  // Defaults: femorph::PhasedOdtOptions and ImproveTargetOptions (set in
+  // the constructor).
+  vtkTypeBool PoorElementsOnly;
+  vtkTypeBool SmoothCurves;
+  vtkTypeBool SmoothSurfaces;
+  vtkTypeBool SmoothVolume;
+  vtkTypeBool RemoveDegenerate;
+  vtkTypeBool RemoveInverted;
+  vtkTypeBool DensityControl;
+  vtkTypeBool AccuracyControl;
+  vtkTypeBool Flips;
+  vtkTypeBool RelaxEdgeLengths;
+  vtkTypeBool MoveUnfittedRegions;
+  int OdtIterations;
+  int MaxLoops;
+  double SplitThreshold;
+  double CollapseThreshold;
+  double GridCellSize;
+  double DegenerateThreshold;
+  double QualityFloor;
+  vtkTypeBool TraceQuality;
   std::string RegionArrayName;
   vtkTypeBool SegmentIfMissing = 1;
   vtkTypeBool RequireValid = 1;
-  vtkTypeBool TraceQuality = 0;
 
 private:
   vtkFEMorphImprove(const vtkFEMorphImprove&) = delete;

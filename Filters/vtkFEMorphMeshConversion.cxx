@@ -4,6 +4,7 @@
 #include "vtkCellData.h"
 #include "vtkCellType.h"
 #include "vtkDataArray.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
@@ -157,119 +158,370 @@ vtkIdType vtkFEMorphMeshConversion::CountNonFinitePoints(vtkPoints* points)
 }
 
 //------------------------------------------------------------------------------
-femorph::Status vtkFEMorphMeshConversion::ToTetMesh(vtkUnstructuredGrid* input,
-  const std::string& filterLabel, femorph::BuildOptions options, femorph::TetMesh& mesh,
-  femorph::BuildReport* report, std::vector<std::string>* warnings)
+std::string vtkFEMorphMeshConversion::CheckGrid(
+  vtkUnstructuredGrid* grid, CellSet cells, const std::string& gridName)
 {
-  mesh = femorph::TetMesh();
-  auto fail = [&](const std::string& what) {
-    return femorph::Status::failure(filterLabel + ": " + what);
-  };
-  auto warn = [&](const std::string& what) {
-    if (warnings)
-    {
-      warnings->push_back(filterLabel + ": " + what);
-    }
-  };
-
-  if (!input || input->GetNumberOfCells() == 0 || !input->GetPoints())
+  if (!grid)
   {
-    return fail("the input has no cells.");
+    return gridName + " is missing.";
   }
-  std::string others;
-  if (DescribeOtherCells(input, VTK_TETRA, others) > 0)
+  const vtkIdType numCells = grid->GetNumberOfCells();
+  const vtkIdType numPoints = grid->GetNumberOfPoints();
+  if (numCells > 0 && (!grid->GetPoints() || numPoints == 0))
   {
-    return femorph::Status::failure(filterLabel + " accepts tetrahedra only; the input has " +
-      others + " (ParaView's Tetrahedralize filter converts them).");
+    return gridName + " has " + std::to_string(numCells) + (numCells == 1 ? " cell" : " cells") +
+      " but no points.";
   }
-  const vtkIdType numPoints = input->GetNumberOfPoints();
-  const vtkIdType numCells = input->GetNumberOfCells();
   if (numPoints > MaxCoreIndex || numCells > MaxCoreIndex / 4)
   {
-    return fail("the input is too large (" + std::to_string(numPoints) + " points, " +
+    return gridName + " is too large (" + std::to_string(numPoints) + " points, " +
       std::to_string(numCells) + " cells; the limit is " + std::to_string(MaxCoreIndex / 4) +
-      " tetrahedra).");
+      " cells and " + std::to_string(MaxCoreIndex) + " points).";
   }
-  if (const vtkIdType bad = CountNonFinitePoints(input->GetPoints()))
+  if (const vtkIdType bad = CountNonFinitePoints(grid->GetPoints()))
   {
-    return fail(std::to_string(bad) + (bad == 1 ? " point has" : " points have") +
-      " NaN or infinite coordinates.");
-  }
-
-  std::vector<femorph::Vec3> points(static_cast<std::size_t>(numPoints));
-  for (vtkIdType i = 0; i < numPoints; ++i)
-  {
-    input->GetPoint(i, points[i].data());
-  }
-  std::vector<femorph::Tet> tets(static_cast<std::size_t>(numCells));
-  // The cell array's own storage (no id list per cell: 30 ms at 0.5M tets).
-  vtkIdType npts = 0;
-  const vtkIdType* pts = nullptr;
-  for (vtkIdType c = 0; c < numCells; ++c)
-  {
-    input->GetCellPoints(c, npts, pts);
-    if (npts != 4)
-    {
-      return fail("cell " + std::to_string(c) + " is a VTK_TETRA with " + std::to_string(npts) +
-        " points instead of 4.");
-    }
-    for (int k = 0; k < 4; ++k)
-    {
-      tets[c][k] = static_cast<femorph::index_t>(pts[k]);
-    }
+    return std::to_string(bad) + (bad == 1 ? " point of " : " points of ") + gridName +
+      (bad == 1 ? " has" : " have") + " NaN or infinite coordinates; fix or remove " +
+      (bad == 1 ? "it" : "them") + " first.";
   }
 
-  options.face_regions.clear();
-  if (vtkDataArray* regions = input->GetCellData()->GetArray(FaceRegionName))
+  std::string others;
+  if (cells == CellSet::Tetrahedra && DescribeOtherCells(grid, VTK_TETRA, others) > 0)
   {
-    if (regions->GetNumberOfComponents() != 4)
+    return gridName + " has " + others +
+      "; this filter reads tetrahedra only (ParaView's Tetrahedralize filter converts "
+      "them).";
+  }
+  if (cells == CellSet::Linear3D)
+  {
+    std::array<vtkIdType, 256> counts{};
+    for (vtkIdType c = 0; c < numCells; ++c)
     {
-      warn(std::string("the cell array ") + FaceRegionName + " has " +
-        std::to_string(regions->GetNumberOfComponents()) +
-        " components instead of 4 (one region per tet face); it is ignored.");
+      ++counts[static_cast<unsigned char>(grid->GetCellType(c))];
     }
-    else
+    for (int type : { VTK_TETRA, VTK_PYRAMID, VTK_WEDGE, VTK_HEXAHEDRON, VTK_VOXEL })
     {
-      options.face_regions.resize(static_cast<std::size_t>(numCells));
-      // FEMorph Segment writes ints: read them in place (GetComponent, per
-      // value, took 15-30 ms at 0.5M tets).
-      vtkIntArray* ints = vtkIntArray::FastDownCast(regions);
-      const int* values = ints ? ints->GetPointer(0) : nullptr;
-      for (vtkIdType c = 0; c < numCells; ++c)
+      counts[type] = 0;
+    }
+    others = DescribeCellCounts(counts);
+    if (!others.empty())
+    {
+      return gridName + " has " + others +
+        "; this filter reads linear hexahedra, voxels, wedges, pyramids and tetrahedra only "
+        "(Extract Cells By Type selects them; higher-order cells must be made linear first).";
+    }
+  }
+
+  // Attribute arrays are copied and interpolated tuple by tuple: a short
+  // one would be read past its end.
+  for (int kind = 0; kind < 2; ++kind)
+  {
+    vtkDataSetAttributes* data = kind == 0
+      ? static_cast<vtkDataSetAttributes*>(grid->GetPointData())
+      : static_cast<vtkDataSetAttributes*>(grid->GetCellData());
+    const vtkIdType expected = kind == 0 ? numPoints : numCells;
+    for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+    {
+      vtkAbstractArray* array = data->GetAbstractArray(a);
+      if (array && array->GetNumberOfTuples() < expected)
       {
-        for (int f = 0; f < 4; ++f)
-        {
-          options.face_regions[c][f] = values
-            ? static_cast<femorph::index_t>(values[4 * c + f])
-            : static_cast<femorph::index_t>(std::lround(regions->GetComponent(c, f)));
-        }
+        const char* name = array->GetName();
+        return std::string(kind == 0 ? "the point array '" : "the cell array '") +
+          (name ? name : "") + "' of " + gridName + " has " +
+          std::to_string(array->GetNumberOfTuples()) +
+          (array->GetNumberOfTuples() == 1 ? " value for " : " values for ") +
+          std::to_string(expected) + (kind == 0 ? " points" : " cells") +
+          "; the file is corrupt (remove the array or fix its length).";
       }
     }
   }
 
+  // The point count of each linear cell type, and point ids in range.
+  vtkIdType totalIds = 0;
+  vtkIdType npts = 0;
+  const vtkIdType* pts = nullptr;
+  for (vtkIdType c = 0; c < numCells; ++c)
+  {
+    const int type = grid->GetCellType(c);
+    grid->GetCellPoints(c, npts, pts);
+    int expected = -1;
+    switch (type)
+    {
+      case VTK_TETRA: expected = 4; break;
+      case VTK_PYRAMID: expected = 5; break;
+      case VTK_WEDGE: expected = 6; break;
+      case VTK_HEXAHEDRON:
+      case VTK_VOXEL: expected = 8; break;
+      default: break;
+    }
+    if (expected >= 0 && npts != expected)
+    {
+      return "cell " + std::to_string(c) + " of " + gridName + " is a " + CellTypeName(type) +
+        " with " + std::to_string(npts) + " points instead of " + std::to_string(expected) +
+        "; the file is corrupt.";
+    }
+    totalIds += npts;
+    if (totalIds > MaxCoreIndex)
+    {
+      return gridName + " is too large (more than " + std::to_string(MaxCoreIndex) +
+        " point ids in its cells).";
+    }
+    for (vtkIdType k = 0; k < npts; ++k)
+    {
+      if (pts[k] < 0 || pts[k] >= numPoints)
+      {
+        return "cell " + std::to_string(c) + " of " + gridName + " refers to point " +
+          std::to_string(pts[k]) + ", but there are " + std::to_string(numPoints) +
+          " points; the file is corrupt.";
+      }
+    }
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::vector<femorph::Vec3> vtkFEMorphMeshConversion::ReadPoints(vtkUnstructuredGrid* grid)
+{
+  const vtkIdType numPoints = grid->GetNumberOfPoints();
+  std::vector<femorph::Vec3> points(static_cast<std::size_t>(numPoints));
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    grid->GetPoint(i, points[static_cast<std::size_t>(i)].data());
+  }
+  return points;
+}
+
+//------------------------------------------------------------------------------
+femorph::Status vtkFEMorphMeshConversion::ReadTetGrid(
+  vtkUnstructuredGrid* grid, std::vector<femorph::Vec3>& points, std::vector<femorph::Tet>& tets)
+{
+  points.clear();
+  tets.clear();
+  const std::string problem = CheckGrid(grid, CellSet::Tetrahedra);
+  if (!problem.empty())
+  {
+    return femorph::Status::failure(problem);
+  }
+  points = ReadPoints(grid);
+  const vtkIdType numCells = grid->GetNumberOfCells();
+  tets.resize(static_cast<std::size_t>(numCells));
+  // The cell array's own storage: no id list per cell.
+  vtkIdType npts = 0;
+  const vtkIdType* pts = nullptr;
+  for (vtkIdType c = 0; c < numCells; ++c)
+  {
+    grid->GetCellPoints(c, npts, pts);
+    for (int k = 0; k < 4; ++k)
+    {
+      tets[static_cast<std::size_t>(c)][k] = static_cast<femorph::index_t>(pts[k]);
+    }
+  }
+  return femorph::Status::success();
+}
+
+//------------------------------------------------------------------------------
+void vtkFEMorphMeshConversion::ReadLinearCells(vtkUnstructuredGrid* grid, femorph::MixedCells& cells,
+  std::vector<vtkIdType>* cellIds, std::array<vtkIdType, 256>* skipped)
+{
+  cells = femorph::MixedCells();
+  if (cellIds)
+  {
+    cellIds->clear();
+  }
+  const vtkIdType numCells = grid->GetNumberOfCells();
+  cells.kinds.reserve(static_cast<std::size_t>(numCells));
+  cells.offsets.reserve(static_cast<std::size_t>(numCells) + 1);
+  // VTK_VOXEL's node order -> VTK_HEXAHEDRON's.
+  constexpr int voxelToHex[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
+  vtkIdType npts = 0;
+  const vtkIdType* pts = nullptr;
+  for (vtkIdType c = 0; c < numCells; ++c)
+  {
+    const int type = grid->GetCellType(c);
+    femorph::CellKind kind = femorph::CellKind::Tetra;
+    switch (type)
+    {
+      case VTK_TETRA: break;
+      case VTK_PYRAMID: kind = femorph::CellKind::Pyramid; break;
+      case VTK_WEDGE: kind = femorph::CellKind::Wedge; break;
+      case VTK_HEXAHEDRON:
+      case VTK_VOXEL: kind = femorph::CellKind::Hexahedron; break;
+      default:
+        if (skipped)
+        {
+          ++(*skipped)[static_cast<unsigned char>(type)];
+        }
+        continue;
+    }
+    grid->GetCellPoints(c, npts, pts);
+    femorph::index_t nodes[8];
+    const int n = femorph::cell_node_count(kind);
+    for (int k = 0; k < n; ++k)
+    {
+      nodes[k] = static_cast<femorph::index_t>(pts[type == VTK_VOXEL ? voxelToHex[k] : k]);
+    }
+    cells.add(kind, nodes);
+    if (cellIds)
+    {
+      cellIds->push_back(c);
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+femorph::Status vtkFEMorphMeshConversion::ReadCellMask(vtkUnstructuredGrid* grid,
+  const std::string& name, const std::string& property, std::vector<std::uint8_t>& mask)
+{
+  mask.clear();
+  const std::string what = property + " is '" + name + "', but ";
+  vtkAbstractArray* array = grid->GetCellData()->GetAbstractArray(name.c_str());
+  if (!array)
+  {
+    return femorph::Status::failure(what + "the input has no cell array of that name.");
+  }
+  vtkDataArray* values = vtkDataArray::SafeDownCast(array);
+  if (!values)
+  {
+    return femorph::Status::failure(what + "that cell array is not numeric (it holds " +
+      array->GetDataTypeAsString() + " values).");
+  }
+  const vtkIdType numCells = grid->GetNumberOfCells();
+  if (values->GetNumberOfTuples() != numCells || values->GetNumberOfComponents() != 1)
+  {
+    return femorph::Status::failure(what + "that cell array has " +
+      std::to_string(values->GetNumberOfTuples()) + " values of " +
+      std::to_string(values->GetNumberOfComponents()) + " components; one value per cell (" +
+      std::to_string(numCells) + ") is needed.");
+  }
+  mask.resize(static_cast<std::size_t>(numCells));
+  for (vtkIdType c = 0; c < numCells; ++c)
+  {
+    const double v = values->GetComponent(c, 0);
+    if (!std::isfinite(v))
+    {
+      mask.clear();
+      return femorph::Status::failure(what + "that cell array has the value " +
+        std::to_string(v) + " at cell " + std::to_string(c) + ".");
+    }
+    mask[static_cast<std::size_t>(c)] = v != 0;
+  }
+  return femorph::Status::success();
+}
+
+//------------------------------------------------------------------------------
+femorph::Status vtkFEMorphMeshConversion::ToTetMesh(vtkUnstructuredGrid* input,
+  const femorph::BuildOptions& options, femorph::TetMesh& mesh, femorph::BuildReport* report,
+  std::vector<std::string>* warnings)
+{
+  mesh = femorph::TetMesh();
+  if (!input || input->GetNumberOfCells() == 0)
+  {
+    return femorph::Status::failure("the input has no cells.");
+  }
+  std::vector<femorph::Vec3> points;
+  std::vector<femorph::Tet> tets;
+  const femorph::Status read = ReadTetGrid(input, points, tets);
+  if (!read)
+  {
+    return read;
+  }
+
   femorph::BuildReport localReport;
   femorph::BuildReport& buildReport = report ? *report : localReport;
-  femorph::Status status;
-  try
-  {
-    status = mesh.build(std::move(points), std::move(tets), options, &buildReport);
-  }
-  catch (const std::exception& e)
-  {
-    mesh = femorph::TetMesh();
-    return fail(std::string("building the mesh failed: ") + e.what());
-  }
+  const femorph::Status status = mesh.build(std::move(points), std::move(tets), options, &buildReport);
   if (!status)
   {
-    return fail("the input mesh is not valid: " + status.message);
+    return femorph::Status::failure("the input mesh is not valid: " + status.message + ".");
   }
-  if (buildReport.unused_points > 0)
+  if (buildReport.unused_points > 0 && warnings)
   {
-    warn(std::to_string(buildReport.unused_points) +
+    warnings->push_back(std::to_string(buildReport.unused_points) +
       (buildReport.unused_points == 1 ? " point is" : " points are") +
-      " not used by any tetrahedron and dropped from the output.");
+      " not used by any tetrahedron; FEMorph leaves " +
+      (buildReport.unused_points == 1 ? "it" : "them") + " out of the mesh it works on.");
   }
   return status;
+}
+
+//------------------------------------------------------------------------------
+void vtkFEMorphMeshConversion::SetTetCells(
+  vtkUnstructuredGrid* output, const std::vector<femorph::Tet>& tets)
+{
+  const vtkIdType numTets = static_cast<vtkIdType>(tets.size());
+  vtkNew<vtkIdTypeArray> offsets;
+  vtkNew<vtkIdTypeArray> connectivity;
+  offsets->SetNumberOfValues(numTets + 1);
+  connectivity->SetNumberOfValues(4 * numTets);
+  for (vtkIdType t = 0; t < numTets; ++t)
+  {
+    offsets->SetValue(t, 4 * t);
+    for (int k = 0; k < 4; ++k)
+    {
+      connectivity->SetValue(4 * t + k, tets[static_cast<std::size_t>(t)][k]);
+    }
+  }
+  offsets->SetValue(numTets, 4 * numTets);
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, connectivity);
+  output->SetCells(VTK_TETRA, cells);
+}
+
+//------------------------------------------------------------------------------
+void vtkFEMorphMeshConversion::SetMixedCells(
+  vtkUnstructuredGrid* output, const femorph::MixedCells& cells)
+{
+  const vtkIdType nc = cells.size();
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfValues(nc + 1);
+  for (vtkIdType c = 0; c <= nc; ++c)
+  {
+    offsets->SetValue(c, cells.offsets[static_cast<std::size_t>(c)]);
+  }
+  connectivity->SetNumberOfValues(static_cast<vtkIdType>(cells.connectivity.size()));
+  for (std::size_t i = 0; i < cells.connectivity.size(); ++i)
+  {
+    connectivity->SetValue(static_cast<vtkIdType>(i), cells.connectivity[i]);
+  }
+  vtkNew<vtkCellArray> cellArray;
+  cellArray->SetData(offsets, connectivity);
+  vtkNew<vtkUnsignedCharArray> types;
+  types->SetNumberOfValues(nc);
+  for (vtkIdType c = 0; c < nc; ++c)
+  {
+    int type = VTK_TETRA;
+    switch (cells.kinds[static_cast<std::size_t>(c)])
+    {
+      case femorph::CellKind::Hexahedron: type = VTK_HEXAHEDRON; break;
+      case femorph::CellKind::Wedge: type = VTK_WEDGE; break;
+      case femorph::CellKind::Pyramid: type = VTK_PYRAMID; break;
+      case femorph::CellKind::Tetra: break;
+    }
+    types->SetValue(c, static_cast<unsigned char>(type));
+  }
+  output->SetCells(types, cellArray);
+}
+
+//------------------------------------------------------------------------------
+void vtkFEMorphMeshConversion::CopySourceCellData(
+  vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, const std::vector<femorph::index_t>& source)
+{
+  vtkCellData* inCD = input->GetCellData();
+  vtkCellData* outCD = output->GetCellData();
+  const vtkIdType numCells = static_cast<vtkIdType>(source.size());
+  const vtkIdType numInputCells = input->GetNumberOfCells();
+  outCD->CopyAllocate(inCD, numCells);
+  for (vtkIdType c = 0; c < numCells; ++c)
+  {
+    const vtkIdType from = source[static_cast<std::size_t>(c)];
+    if (from >= 0 && from < numInputCells)
+    {
+      outCD->CopyData(inCD, from, c);
+    }
+    else
+    {
+      outCD->NullData(c);
+    }
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -288,22 +540,7 @@ void vtkFEMorphMeshConversion::FromCompactMesh(
   }
   output->SetPoints(points);
 
-  vtkNew<vtkIdTypeArray> offsets;
-  vtkNew<vtkIdTypeArray> connectivity;
-  offsets->SetNumberOfValues(numTets + 1);
-  connectivity->SetNumberOfValues(4 * numTets);
-  for (vtkIdType t = 0; t < numTets; ++t)
-  {
-    offsets->SetValue(t, 4 * t);
-    for (int k = 0; k < 4; ++k)
-    {
-      connectivity->SetValue(4 * t + k, mesh.tets[t][k]);
-    }
-  }
-  offsets->SetValue(numTets, 4 * numTets);
-  vtkNew<vtkCellArray> cells;
-  cells->SetData(offsets, connectivity);
-  output->SetCells(VTK_TETRA, cells);
+  SetTetCells(output, mesh.tets);
 
   // Point data: interpolate with the vertex stencils; FEMorph's own arrays
   // are recomputed below, not interpolated.
@@ -352,20 +589,13 @@ void vtkFEMorphMeshConversion::FromCompactMesh(
   vtkCellData* outCD = output->GetCellData();
   const bool inputHadRegions = inCD->GetArray(FaceRegionName) != nullptr;
   outCD->CopyFieldOff(FaceRegionName);
-  outCD->CopyAllocate(inCD, numTets);
-  const vtkIdType numInputCells = input->GetNumberOfCells();
-  for (vtkIdType t = 0; t < numTets; ++t)
+  if (static_cast<vtkIdType>(mesh.tet_origin.size()) == numTets)
   {
-    const vtkIdType origin =
-      t < static_cast<vtkIdType>(mesh.tet_origin.size()) ? mesh.tet_origin[t] : -1;
-    if (origin >= 0 && origin < numInputCells)
-    {
-      outCD->CopyData(inCD, origin, t);
-    }
-    else
-    {
-      outCD->NullData(t);
-    }
+    CopySourceCellData(input, output, mesh.tet_origin);
+  }
+  else
+  {
+    CopySourceCellData(input, output, std::vector<femorph::index_t>(mesh.tets.size(), -1));
   }
   // The copy flags persist in the output's attribute objects: restore them so
   // downstream copies of this output carry the arrays added below.

@@ -3,17 +3,12 @@
 #include "vtkFEMorphMeshConversion.h"
 
 #include "vtkCellData.h"
-#include "vtkCellType.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
-#include "vtkIdList.h"
-#include "vtkIdTypeArray.h"
-#include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
-#include "vtkPoints.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -22,8 +17,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
-#include <exception>
 #include <limits>
 #include <vector>
 
@@ -56,24 +49,6 @@ struct Summary
   double GetMean() const { return this->Count ? this->Sum / this->Count : NaN; }
 };
 
-void AddValue(vtkFieldData* fd, const char* name, double value)
-{
-  vtkNew<vtkDoubleArray> a;
-  a->SetName(name);
-  a->SetNumberOfTuples(1);
-  a->SetValue(0, value);
-  fd->AddArray(a);
-}
-
-void AddCount(vtkFieldData* fd, const char* name, vtkIdType value)
-{
-  vtkNew<vtkIdTypeArray> a;
-  a->SetName(name);
-  a->SetNumberOfTuples(1);
-  a->SetValue(0, value);
-  fd->AddArray(a);
-}
-
 vtkSmartPointer<vtkDoubleArray> NewCellArray(const char* name, vtkIdType n)
 {
   auto a = vtkSmartPointer<vtkDoubleArray>::New();
@@ -82,23 +57,14 @@ vtkSmartPointer<vtkDoubleArray> NewCellArray(const char* name, vtkIdType n)
   a->Fill(NaN);
   return a;
 }
-
-// The core's cell kind for a VTK cell type; false for cells not evaluated.
-bool CellKindOf(int vtkType, femorph::CellKind& kind)
-{
-  switch (vtkType)
-  {
-    case VTK_PYRAMID: kind = femorph::CellKind::Pyramid; return true;
-    case VTK_WEDGE: kind = femorph::CellKind::Wedge; return true;
-    case VTK_HEXAHEDRON:
-    case VTK_VOXEL: kind = femorph::CellKind::Hexahedron; return true;
-    default: return false;
-  }
-}
 }
 
 //------------------------------------------------------------------------------
-vtkFEMorphMeshQuality::vtkFEMorphMeshQuality() = default;
+vtkFEMorphMeshQuality::vtkFEMorphMeshQuality()
+  : vtkFEMorphAlgorithm("FEMorph Mesh Quality", AnyCells)
+{
+}
+
 vtkFEMorphMeshQuality::~vtkFEMorphMeshQuality() = default;
 
 //------------------------------------------------------------------------------
@@ -109,60 +75,22 @@ void vtkFEMorphMeshQuality::PrintSelf(ostream& os, vtkIndent indent)
 }
 
 //------------------------------------------------------------------------------
-int vtkFEMorphMeshQuality::FillInputPortInformation(int, vtkInformation* info)
+bool vtkFEMorphMeshQuality::CheckProperties()
 {
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkUnstructuredGrid");
-  return 1;
+  return this->CheckRange("StretchThreshold", this->StretchThreshold, 0, 1);
 }
 
 //------------------------------------------------------------------------------
-int vtkFEMorphMeshQuality::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+bool vtkFEMorphMeshQuality::Execute(
+  vtkUnstructuredGrid* input, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
-  if (!input || !output)
-  {
-    vtkErrorMacro("FEMorph Mesh Quality needs a vtkUnstructuredGrid input.");
-    return 0;
-  }
-
   const vtkIdType numCells = input->GetNumberOfCells();
-  if (numCells == 0)
-  {
-    output->ShallowCopy(input);
-    return 1;
-  }
-  // The clamp macro lets NaN through.
-  if (!std::isfinite(this->StretchThreshold))
-  {
-    vtkErrorMacro("StretchThreshold must be a number in [0, 1]; it is "
-      << this->StretchThreshold << ".");
-    return 0;
-  }
-
-  const vtkIdType numPoints = input->GetNumberOfPoints();
-  if (numPoints > std::numeric_limits<femorph::index_t>::max())
-  {
-    vtkErrorMacro("FEMorph Mesh Quality handles up to "
-      << std::numeric_limits<femorph::index_t>::max() << " points; the input has " << numPoints
-      << ".");
-    return 0;
-  }
-  if (const vtkIdType bad = vtkFEMorphMeshConversion::CountNonFinitePoints(input->GetPoints()))
-  {
-    vtkErrorMacro("FEMorph Mesh Quality: "
-      << bad << (bad == 1 ? " point has" : " points have")
-      << " NaN or infinite coordinates; no quality can be computed for the cells using them. "
-         "Fix or remove these points first.");
-    return 0;
-  }
-
-  std::vector<femorph::Vec3> points(static_cast<std::size_t>(numPoints));
-  for (vtkIdType i = 0; i < numPoints; ++i)
-  {
-    input->GetPoint(i, points[i].data());
-  }
+  const std::vector<femorph::Vec3> points = vtkFEMorphMeshConversion::ReadPoints(input);
+  femorph::MixedCells cells;
+  std::vector<vtkIdType> cellIds;
+  std::array<vtkIdType, 256> skipped{};
+  vtkFEMorphMeshConversion::ReadLinearCells(input, cells, &cellIds, &skipped);
 
   auto stretch = NewCellArray("Stretch", numCells);
   auto scaledJacobian = NewCellArray("ScaledJacobian", numCells);
@@ -175,151 +103,94 @@ int vtkFEMorphMeshQuality::RequestData(
 
   Summary stretchSummary, jacobianSummary, minDihedralSummary, maxDihedralSummary;
   vtkIdType invertedCount = 0, invertedTets = 0, zeroVolumeCount = 0, belowThresholdCount = 0;
-  vtkIdType tetraCount = 0, pyramidCount = 0, wedgeCount = 0, hexahedronCount = 0;
-  std::array<vtkIdType, 256> skipped{};
+  std::array<vtkIdType, 4> kindCounts{};
 
   std::vector<femorph::Tet> chunkTets;
   std::vector<vtkIdType> chunkTetCells;
   std::vector<double> tetStretch, tetJacobian, tetMinDihedral, tetMaxDihedral;
   chunkTets.reserve(ChunkSize);
   chunkTetCells.reserve(ChunkSize);
-  vtkNew<vtkIdList> cellPoints;
-  // VTK_VOXEL's node order -> VTK_HEXAHEDRON's.
-  constexpr int voxelToHex[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
-
-  try
+  const vtkIdType numRead = cells.size();
+  for (vtkIdType begin = 0; begin < numRead; begin += ChunkSize)
   {
-    for (vtkIdType begin = 0; begin < numCells; begin += ChunkSize)
+    const vtkIdType end = std::min(begin + ChunkSize, numRead);
+    chunkTets.clear();
+    chunkTetCells.clear();
+    for (vtkIdType i = begin; i < end; ++i)
     {
-      const vtkIdType end = std::min(begin + ChunkSize, numCells);
-      chunkTets.clear();
-      chunkTetCells.clear();
-      for (vtkIdType c = begin; c < end; ++c)
+      const femorph::CellKind kind = cells.kinds[i];
+      const femorph::index_t* nodes = cells.nodes(static_cast<femorph::index_t>(i));
+      const vtkIdType c = cellIds[i];
+      ++kindCounts[static_cast<int>(kind)];
+      if (kind == femorph::CellKind::Tetra)
       {
-        const int type = input->GetCellType(c);
-        femorph::CellKind kind = femorph::CellKind::Tetra;
-        const bool isTet = type == VTK_TETRA;
-        if (!isTet && !CellKindOf(type, kind))
-        {
-          ++skipped[static_cast<unsigned char>(type)];
-          continue;
-        }
-        input->GetCellPoints(c, cellPoints);
-        const vtkIdType npts = cellPoints->GetNumberOfIds();
-        const int expected = isTet ? 4 : femorph::cell_node_count(kind);
-        if (npts != expected)
-        {
-          vtkErrorMacro("Cell " << c << " is a " << vtkFEMorphMeshConversion::CellTypeName(type)
-                                << " with " << npts << " points instead of " << expected
-                                << "; the input is corrupt.");
-          return 0;
-        }
-        for (vtkIdType k = 0; k < npts; ++k)
-        {
-          const vtkIdType id = cellPoints->GetId(k);
-          if (id < 0 || id >= numPoints)
-          {
-            vtkErrorMacro("Cell " << c << " refers to point " << id << " but the input has "
-                                  << numPoints << " points; the input is corrupt.");
-            return 0;
-          }
-        }
-
-        if (isTet)
-        {
-          chunkTets.push_back({ { static_cast<femorph::index_t>(cellPoints->GetId(0)),
-            static_cast<femorph::index_t>(cellPoints->GetId(1)),
-            static_cast<femorph::index_t>(cellPoints->GetId(2)),
-            static_cast<femorph::index_t>(cellPoints->GetId(3)) } });
-          chunkTetCells.push_back(c);
-          continue;
-        }
-
-        femorph::Vec3 corners[8];
-        for (int k = 0; k < expected; ++k)
-        {
-          const int local = type == VTK_VOXEL ? voxelToHex[k] : k;
-          corners[k] = points[cellPoints->GetId(local)];
-        }
-        double values[8];
-        const int n = femorph::scaled_jacobian_corners(kind, corners, values);
-        double minValue = std::numeric_limits<double>::infinity();
-        for (int k = 0; k < n; ++k)
-        {
-          minValue = std::min(minValue, values[k]);
-        }
-        scaledJacobian->SetValue(c, minValue);
-        jacobianSummary.Add(minValue);
-        if (minValue < 0)
-        {
-          inverted->SetValue(c, 1);
-          ++invertedCount;
-        }
-        switch (kind)
-        {
-          case femorph::CellKind::Pyramid: ++pyramidCount; break;
-          case femorph::CellKind::Wedge: ++wedgeCount; break;
-          default: ++hexahedronCount; break;
-        }
+        chunkTets.push_back({ { nodes[0], nodes[1], nodes[2], nodes[3] } });
+        chunkTetCells.push_back(c);
+        continue;
       }
-
-      // The tets of this chunk in one parallel pass of the core.
-      const std::size_t nt = chunkTets.size();
-      tetStretch.resize(nt);
-      tetJacobian.resize(nt);
-      tetMinDihedral.resize(nt);
-      tetMaxDihedral.resize(nt);
-      if (nt > 0)
+      femorph::Vec3 corners[8];
+      const int n = femorph::cell_node_count(kind);
+      for (int k = 0; k < n; ++k)
       {
-        femorph::compute_tet_quality(points, chunkTets, tetStretch.data(), tetJacobian.data(),
-          tetMinDihedral.data(), tetMaxDihedral.data(), nullptr);
+        corners[k] = points[nodes[k]];
       }
-      for (std::size_t i = 0; i < nt; ++i)
+      const double minValue = femorph::min_scaled_jacobian(kind, corners);
+      scaledJacobian->SetValue(c, minValue);
+      jacobianSummary.Add(minValue);
+      if (minValue < 0)
       {
-        const vtkIdType c = chunkTetCells[i];
-        const femorph::Tet& t = chunkTets[i];
-        const double minAngle = vtkMath::DegreesFromRadians(tetMinDihedral[i]);
-        const double maxAngle = vtkMath::DegreesFromRadians(tetMaxDihedral[i]);
-        stretch->SetValue(c, tetStretch[i]);
-        scaledJacobian->SetValue(c, tetJacobian[i]);
-        minDihedral->SetValue(c, minAngle);
-        maxDihedral->SetValue(c, maxAngle);
-        stretchSummary.Add(tetStretch[i]);
-        jacobianSummary.Add(tetJacobian[i]);
-        minDihedralSummary.Add(minAngle);
-        maxDihedralSummary.Add(maxAngle);
-        // Exact sign: a float volume of a nearly flat tet may have either sign.
-        const int sign =
-          femorph::orient3d_sign(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
-        if (sign < 0)
-        {
-          inverted->SetValue(c, 1);
-          ++invertedCount;
-          ++invertedTets;
-        }
-        else if (sign == 0)
-        {
-          ++zeroVolumeCount;
-        }
-        if (tetStretch[i] < this->StretchThreshold)
-        {
-          ++belowThresholdCount;
-        }
-      }
-      tetraCount += static_cast<vtkIdType>(nt);
-
-      this->UpdateProgress(static_cast<double>(end) / numCells);
-      if (this->CheckAbort())
-      {
-        output->Initialize();
-        return 1;
+        inverted->SetValue(c, 1);
+        ++invertedCount;
       }
     }
-  }
-  catch (const std::exception& e)
-  {
-    vtkErrorMacro("FEMorph Mesh Quality failed: " << e.what());
-    return 0;
+
+    // The tets of this chunk in one parallel pass of the core.
+    const std::size_t nt = chunkTets.size();
+    tetStretch.resize(nt);
+    tetJacobian.resize(nt);
+    tetMinDihedral.resize(nt);
+    tetMaxDihedral.resize(nt);
+    if (nt > 0)
+    {
+      femorph::compute_tet_quality(points, chunkTets, tetStretch.data(), tetJacobian.data(),
+        tetMinDihedral.data(), tetMaxDihedral.data(), nullptr);
+    }
+    for (std::size_t i = 0; i < nt; ++i)
+    {
+      const vtkIdType c = chunkTetCells[i];
+      const femorph::Tet& t = chunkTets[i];
+      const double minAngle = vtkMath::DegreesFromRadians(tetMinDihedral[i]);
+      const double maxAngle = vtkMath::DegreesFromRadians(tetMaxDihedral[i]);
+      stretch->SetValue(c, tetStretch[i]);
+      scaledJacobian->SetValue(c, tetJacobian[i]);
+      minDihedral->SetValue(c, minAngle);
+      maxDihedral->SetValue(c, maxAngle);
+      stretchSummary.Add(tetStretch[i]);
+      jacobianSummary.Add(tetJacobian[i]);
+      minDihedralSummary.Add(minAngle);
+      maxDihedralSummary.Add(maxAngle);
+      // Exact sign: a float volume of a nearly flat tet may have either sign.
+      const int sign =
+        femorph::orient3d_sign(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
+      if (sign < 0)
+      {
+        inverted->SetValue(c, 1);
+        ++invertedCount;
+        ++invertedTets;
+      }
+      else if (sign == 0)
+      {
+        ++zeroVolumeCount;
+      }
+      if (tetStretch[i] < this->StretchThreshold)
+      {
+        ++belowThresholdCount;
+      }
+    }
+    if (!this->Progress(static_cast<double>(end) / numRead))
+    {
+      return true;
+    }
   }
 
   vtkIdType skippedCount = 0;
@@ -329,17 +200,16 @@ int vtkFEMorphMeshQuality::RequestData(
   }
   if (skippedCount > 0)
   {
-    vtkWarningMacro("FEMorph Mesh Quality evaluates tetrahedra, hexahedra, wedges and "
-                    "pyramids only; "
-      << vtkFEMorphMeshConversion::DescribeCellCounts(skipped)
-      << (skippedCount == 1 ? " gets" : " get") << " NaN in the quality arrays.");
+    this->Warn("tetrahedra, hexahedra, wedges and pyramids are evaluated, nothing else; " +
+      vtkFEMorphMeshConversion::DescribeCellCounts(skipped) +
+      (skippedCount == 1 ? " gets" : " get") + " NaN in the quality arrays.");
   }
+  const vtkIdType tetraCount = kindCounts[static_cast<int>(femorph::CellKind::Tetra)];
   if (tetraCount > 0 && invertedTets == tetraCount)
   {
-    vtkWarningMacro("All " << tetraCount
-                           << " tetrahedra have negative volume: the mesh probably uses the "
-                              "opposite vertex order to VTK_TETRA's (positive when "
-                              "(p1 - p0) . ((p2 - p0) x (p3 - p0)) > 0).");
+    this->Warn("all " + std::to_string(tetraCount) +
+      " tetrahedra have negative volume: the mesh probably uses the opposite vertex order to "
+      "VTK_TETRA's (positive when (p1 - p0) . ((p2 - p0) x (p3 - p0)) > 0).");
   }
 
   output->ShallowCopy(input);
@@ -370,9 +240,9 @@ int vtkFEMorphMeshQuality::RequestData(
   AddCount(fd, "ZeroVolumeCount", zeroVolumeCount);
   AddCount(fd, "BelowThresholdCount", belowThresholdCount);
   AddCount(fd, "TetraCount", tetraCount);
-  AddCount(fd, "PyramidCount", pyramidCount);
-  AddCount(fd, "WedgeCount", wedgeCount);
-  AddCount(fd, "HexahedronCount", hexahedronCount);
+  AddCount(fd, "PyramidCount", kindCounts[static_cast<int>(femorph::CellKind::Pyramid)]);
+  AddCount(fd, "WedgeCount", kindCounts[static_cast<int>(femorph::CellKind::Wedge)]);
+  AddCount(fd, "HexahedronCount", kindCounts[static_cast<int>(femorph::CellKind::Hexahedron)]);
   AddCount(fd, "SkippedCellCount", skippedCount);
-  return 1;
+  return true;
 }

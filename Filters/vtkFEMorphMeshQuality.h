@@ -54,7 +54,7 @@
  * Statistics over an empty set are NaN. Means and counts can be combined
  * across distributed pieces (mean x count).
  *
- * An input without cells is passed through without arrays (not an error).
+ * An input without cells gives an empty output and a warning.
  * NaN or infinite point coordinates are an error (the message gives their
  * count) and produce an empty output.
  *
@@ -69,13 +69,13 @@
 #define vtkFEMorphMeshQuality_h
 
 #include "FEMorphFiltersModule.h" // For export macro
-#include "vtkUnstructuredGridAlgorithm.h"
+#include "vtkFEMorphAlgorithm.h"
 
-class FEMORPHFILTERS_EXPORT vtkFEMorphMeshQuality : public vtkUnstructuredGridAlgorithm
+class FEMORPHFILTERS_EXPORT vtkFEMorphMeshQuality : public vtkFEMorphAlgorithm
 {
 public:
   static vtkFEMorphMeshQuality* New();
-  vtkTypeMacro(vtkFEMorphMeshQuality, vtkUnstructuredGridAlgorithm);
+  vtkTypeMacro(vtkFEMorphMeshQuality, vtkFEMorphAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -91,8 +91,8 @@ protected:
   vtkFEMorphMeshQuality();
   ~vtkFEMorphMeshQuality() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+  bool CheckProperties() override;
+  bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 
   double StretchThreshold = 0.05;

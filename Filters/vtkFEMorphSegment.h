@@ -18,7 +18,7 @@
  * the boundary surface is segmented; its degenerate triangles are counted).
  *
  * Output 0 ("Mesh"): a shallow copy of the input (the input is never
- * modified) with the arrays of DESIGN.md, written by
+ * modified) with the arrays of docs/ARCHITECTURE.md, written by
  * vtkFEMorphSegmentationArrays:
  * - cell data `FaceRegion` (int, 4 components: region of the face opposite
  *   local vertex i, -1 interior), point data `VertexClass` (unsigned char:
@@ -44,7 +44,7 @@
  * distance to the fit), Neighbors (e.g. "2 5 7"); NaN where a column does
  * not apply to the region's type.
  *
- * An input without cells gives empty outputs (not an error). An abort leaves
+ * An input without cells gives empty outputs and a warning. An abort leaves
  * the outputs empty. The segmentation's warnings (regions left unknown, fits
  * that did not converge) are reported with vtkWarningMacro.
  *
@@ -59,16 +59,16 @@
 #define vtkFEMorphSegment_h
 
 #include "FEMorphFiltersModule.h" // For export macro
-#include "vtkUnstructuredGridAlgorithm.h"
+#include "vtkFEMorphAlgorithm.h"
 
 class vtkPolyData;
 class vtkTable;
 
-class FEMORPHFILTERS_EXPORT vtkFEMorphSegment : public vtkUnstructuredGridAlgorithm
+class FEMORPHFILTERS_EXPORT vtkFEMorphSegment : public vtkFEMorphAlgorithm
 {
 public:
   static vtkFEMorphSegment* New();
-  vtkTypeMacro(vtkFEMorphSegment, vtkUnstructuredGridAlgorithm);
+  vtkTypeMacro(vtkFEMorphSegment, vtkFEMorphAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -172,9 +172,9 @@ protected:
   vtkFEMorphSegment();
   ~vtkFEMorphSegment() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   int FillOutputPortInformation(int port, vtkInformation* info) override;
-  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+  bool CheckProperties() override;
+  bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 
   // Defaults: femorph::SegmentationParams (set in the constructor).

@@ -49,6 +49,13 @@ std::string Str(vtkIdType v)
   return std::to_string(v);
 }
 
+std::string Num(double v)
+{
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
 // Local index (0..3) in `cell` of the vertex opposite the triangle whose
 // mesh points are `tri`; -1 if the cell does not hold the triangle.
 int OppositeLocal(const vtkIdType cell[4], const vtkIdType tri[3])
@@ -540,18 +547,36 @@ Status vtkFEMorphSegmentationArrays::WriteRegionTable(
 }
 
 //------------------------------------------------------------------------------
+bool vtkFEMorphSegmentationArrays::HasSegmentation(vtkUnstructuredGrid* mesh)
+{
+  if (!mesh)
+  {
+    return false;
+  }
+  vtkFieldData* fd = mesh->GetFieldData();
+  for (const char* name : { RegionTypeName, RegionParametersName, RegionConvexityName,
+         CurveTypeName, CurveParametersName, CurveClosedName, CurveVerticesName, CurveOffsetsName })
+  {
+    if (fd->GetAbstractArray(name))
+    {
+      return true;
+    }
+  }
+  return mesh->GetCellData()->GetAbstractArray(FaceRegionName) != nullptr;
+}
+
+//------------------------------------------------------------------------------
 Status vtkFEMorphSegmentationArrays::ReadFromMesh(
-  vtkUnstructuredGrid* mesh, const std::string& filterLabel, MeshSegmentation& out)
+  vtkUnstructuredGrid* mesh, MeshSegmentation& out, const std::string& gridName)
 {
   out = MeshSegmentation();
   auto fail = [&](const std::string& what) {
     out = MeshSegmentation();
-    return Status::failure(filterLabel + ": " + what +
-      " Run FEMorph Segment on the mesh first (and keep its arrays).");
+    return Status::failure(what + " Run FEMorph Segment on the mesh first (and keep its arrays).");
   };
   if (!mesh)
   {
-    return fail("there is no input mesh.");
+    return fail("there is no mesh.");
   }
   const vtkIdType numCells = mesh->GetNumberOfCells();
   const vtkIdType numPoints = mesh->GetNumberOfPoints();
@@ -564,7 +589,7 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
     vtkAbstractArray* a = data->GetAbstractArray(name);
     if (!a)
     {
-      problem = std::string("the input has no ") + kind + " array " + name + ".";
+      problem = gridName + " has no " + kind + " array " + name + ".";
       return nullptr;
     }
     vtkDataArray* d = vtkDataArray::SafeDownCast(a);
@@ -612,6 +637,24 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
     return true;
   };
 
+  // Finite values in every component, or a message.
+  auto finite = [&](vtkDataArray* d) {
+    const int nc = d->GetNumberOfComponents();
+    for (vtkIdType i = 0; i < d->GetNumberOfTuples(); ++i)
+    {
+      for (int k = 0; k < nc; ++k)
+      {
+        if (!std::isfinite(d->GetComponent(i, k)))
+        {
+          problem = std::string("the array ") + d->GetName() + " has a NaN or infinite value at " +
+            Str(i) + ", component " + Str(k) + ".";
+          return false;
+        }
+      }
+    }
+    return true;
+  };
+
   // Regions.
   vtkDataArray* regionType = numeric(fd, "field", RegionTypeName, 1, -1);
   if (!regionType)
@@ -639,6 +682,10 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
     !integers(regionConvexity, 0, 2, [&](vtkIdType i, int, long long v) {
       out.RegionConvexity[i] = static_cast<femorph::Convexity>(v);
     }))
+  {
+    return fail(problem);
+  }
+  if (!finite(regionParameters))
   {
     return fail(problem);
   }
@@ -734,10 +781,31 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
   {
     return fail(problem);
   }
+  if (!finite(curveParameters))
+  {
+    return fail(problem);
+  }
+  out.Curves.resize(static_cast<std::size_t>(nc));
   for (vtkIdType c = 0; c < nc; ++c)
   {
     curveParameters->GetTuple(c, out.CurveParameters[c].data());
     out.CurveVertices[c].assign(vertices.begin() + offsets[c], vertices.begin() + offsets[c + 1]);
+    // The two regions and the continuity stored in the row.
+    const double* row = out.CurveParameters[c].data();
+    long long a = 0, b = 0, g = 0;
+    if (!IntegerValue(row[17], a) || !IntegerValue(row[18], b) || a < -1 || a >= nr || b < -1 ||
+      b >= nr || !IntegerValue(row[19], g) || g < 0 || g > 1)
+    {
+      return fail(std::string("the array ") + CurveParametersName + " names regions " +
+        Num(row[17]) + " and " + Num(row[18]) + " (continuity " + Num(row[19]) + ") for curve " +
+        Str(c) + "; the mesh has " + Str(nr) + " regions (ids 0 to " + Str(nr - 1) +
+        ", -1 for none; continuity 0 or 1).");
+    }
+    femorph::BoundaryCurve& curve = out.Curves[c];
+    curve = femorph::unpack_curve_parameters(out.CurveTypes[c], row);
+    curve.id = static_cast<femorph::index_t>(c);
+    curve.closed = out.CurveClosed[c];
+    curve.vertices.assign(out.CurveVertices[c].begin(), out.CurveVertices[c].end());
   }
   return Status::success();
 }

@@ -1,6 +1,6 @@
 /**
  * @class   vtkFEMorphSegmentationArrays
- * @brief   femorph::Segmentation <-> the VTK arrays of DESIGN.md, shared by
+ * @brief   femorph::Segmentation <-> the VTK arrays of docs/ARCHITECTURE.md, shared by
  *          FEMorph Segment (which writes them) and the filters that read them
  *
  * Static helpers, no state, like vtkFEMorphMeshConversion. The segmentation
@@ -83,7 +83,7 @@ class FEMORPHFILTERS_EXPORT vtkFEMorphSegmentationArrays
 {
 public:
   ///@{
-  /// Array names (DESIGN.md).
+  /// Array names (docs/ARCHITECTURE.md).
   static constexpr const char* FaceRegionName = "FaceRegion";
   static constexpr const char* VertexClassName = "VertexClass";
   static constexpr const char* RegionTypeName = "RegionType";
@@ -151,17 +151,29 @@ public:
     std::vector<std::array<double, femorph::kCurveParameterWidth>> CurveParameters;
     std::vector<bool> CurveClosed;
     std::vector<std::vector<vtkIdType>> CurveVertices; // mesh point ids, in order
+    /// Per curve, unpacked: type, fit, regions, continuity, closed, and the
+    /// mesh point ids as vertices.
+    std::vector<femorph::BoundaryCurve> Curves;
   };
 
   /**
-   * Reads the arrays WriteToMesh() writes. Fails with a message naming the
-   * missing or malformed array (starting with `filterLabel`, e.g. "FEMorph
-   * Deform") and telling the user to run FEMorph Segment; `out` is then
-   * empty. VertexClass is optional (TetMesh::classify_vertices() recomputes
-   * it from the face regions).
+   * Whether the grid carries any of the segmentation arrays (FaceRegion or a
+   * region or curve field array): a grid that does must carry all of them,
+   * valid, and ReadFromMesh() says what is wrong otherwise.
+   */
+  static bool HasSegmentation(vtkUnstructuredGrid* mesh);
+
+  /**
+   * Reads the arrays WriteToMesh() writes, each checked for type, number of
+   * components and tuples, and value range (region, curve and point ids
+   * that name nothing, non-finite fit parameters...). Fails with a message
+   * naming the missing or malformed array (a grid named `gridName`, e.g.
+   * "the Reference input") and telling the user to run FEMorph Segment;
+   * `out` is then empty. VertexClass is optional
+   * (TetMesh::classify_vertices() recomputes it from the face regions).
    */
   static femorph::Status ReadFromMesh(
-    vtkUnstructuredGrid* mesh, const std::string& filterLabel, MeshSegmentation& out);
+    vtkUnstructuredGrid* mesh, MeshSegmentation& out, const std::string& gridName = "the input");
 };
 
 #endif

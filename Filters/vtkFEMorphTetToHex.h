@@ -17,7 +17,8 @@
  * are an error naming each type and its count), positively oriented
  * (VTK_TETRA's order) and conforming. Inverted or flat tetrahedra, faces
  * shared by more than two tetrahedra and NaN coordinates are errors. An
- * input without cells gives an empty output. The input is never modified.
+ * input without cells gives an empty output and a warning. The input is
+ * never modified.
  *
  * Output: a vtkUnstructuredGrid with the input's points and point data, and
  * cells VTK_HEXAHEDRON, VTK_WEDGE, VTK_PYRAMID (in this order) and then the
@@ -46,13 +47,13 @@
 #define vtkFEMorphTetToHex_h
 
 #include "FEMorphFiltersModule.h" // For export macro
-#include "vtkUnstructuredGridAlgorithm.h"
+#include "vtkFEMorphAlgorithm.h"
 
-class FEMORPHFILTERS_EXPORT vtkFEMorphTetToHex : public vtkUnstructuredGridAlgorithm
+class FEMORPHFILTERS_EXPORT vtkFEMorphTetToHex : public vtkFEMorphAlgorithm
 {
 public:
   static vtkFEMorphTetToHex* New();
-  vtkTypeMacro(vtkFEMorphTetToHex, vtkUnstructuredGridAlgorithm);
+  vtkTypeMacro(vtkFEMorphTetToHex, vtkFEMorphAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -107,8 +108,8 @@ protected:
   vtkFEMorphTetToHex();
   ~vtkFEMorphTetToHex() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+  bool CheckProperties() override;
+  bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 
   double QuadAngle = 20.0;

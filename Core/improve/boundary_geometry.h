@@ -17,6 +17,7 @@
 namespace femorph {
 
 class TetMesh;
+struct BoundaryCurve;
 
 struct BoundaryGeometry {
   /// Fitted surface per region id (the ids of TetMesh::face_region). Type
@@ -39,6 +40,12 @@ struct BoundaryGeometry {
     return r >= 0 && r < static_cast<index_t>(discrete.size()) && !discrete[r].empty() ? &discrete[r] : nullptr;
   }
 };
+
+/// The geometry of a segmentation as FEMorph Segment's arrays carry it: the
+/// fitted surface of each region (type Unknown: none) and each boundary
+/// curve's fit with the two regions it separates (thesis 2.5.1.1).
+BoundaryGeometry make_boundary_geometry(const std::vector<SurfacePrimitive>& regions,
+                                        const std::vector<BoundaryCurve>& curves);
 
 /// Keeps the current boundary triangles of every region without a fit (and
 /// of faces without a region: none) as geometry.discrete, so that its

@@ -1,7 +1,9 @@
 // The fixed-width rows of the RegionParameters and CurveParameters field
-// arrays (DESIGN.md), so the fits the Segment filter writes reach Deform and
+// arrays (docs/ARCHITECTURE.md), so the fits the Segment filter writes reach Deform and
 // Improve through .vtu files and ParaView pipelines. Layouts: segmentation.h.
 #include "segment/segmentation.h"
+
+#include <cmath>
 
 namespace femorph {
 namespace {
@@ -60,6 +62,25 @@ std::array<double, kCurveParameterWidth> pack_curve_parameters(const BoundaryCur
   row[18] = id_value(curve.region_b);
   row[19] = static_cast<double>(static_cast<std::int32_t>(curve.continuity));
   return row;
+}
+
+BoundaryCurve unpack_curve_parameters(CurveType type, const double* row) {
+  BoundaryCurve curve;
+  curve.type = type;
+  curve.curve.type = type;
+  if (!row) return curve;
+  CurvePrimitive& c = curve.curve;
+  c.center = get(row, 0);
+  c.normal = get(row, 3);
+  c.direction = get(row, 6);
+  c.radius = row[9];
+  c.minor_radius = row[10];
+  c.start = get(row, 11);
+  c.end = get(row, 14);
+  curve.region_a = static_cast<index_t>(std::lround(row[17]));
+  curve.region_b = static_cast<index_t>(std::lround(row[18]));
+  curve.continuity = std::lround(row[19]) == 1 ? Continuity::G1 : Continuity::G0;
+  return curve;
 }
 
 }  // namespace femorph

@@ -107,6 +107,17 @@ using SegmentationProgress = std::function<bool(double fraction, const char* ste
 Status segment_surface(const SurfaceMesh& surface, const SegmentationParams& params, Segmentation& out,
                        const SegmentationProgress& progress = {});
 
+class TetMesh;
+
+/// The boundary of a tet mesh (extract_boundary_surface) segmented by
+/// segment_surface into `out`; `surface` receives the boundary with its
+/// source vertices and faces. Fails with a message naming the problem (an
+/// open or non-manifold boundary with its counts, or the segmentation's).
+/// Degenerate boundary triangles are a warning in out.warnings, first.
+/// Progress: the extraction at 0, then segment_surface's.
+Status segment_boundary(const TetMesh& mesh, const SegmentationParams& params, SurfaceMesh& surface,
+                        Segmentation& out, const SegmentationProgress& progress = {});
+
 /// Fixed-width rows of the RegionParameters field array (DESIGN.md), one per
 /// region, so Deform and Improve read the fits the Segment filter wrote:
 ///   0-2 point, 3-5 axis, 6 radius, 7 minor_radius, 8 half_angle (rad),
@@ -121,5 +132,10 @@ SurfacePrimitive unpack_region_surface(SurfaceType type, const double* row);
 ///   11-13 start, 14-16 end, 17 region_a, 18 region_b, 19 continuity
 constexpr int kCurveParameterWidth = 20;
 std::array<double, kCurveParameterWidth> pack_curve_parameters(const BoundaryCurve& curve);
+/// Inverse of pack_curve_parameters: the curve's fit, its two regions and
+/// continuity (type given separately; id, vertices and closed are not in the
+/// row). Region ids are rounded to the nearest integer; the caller checks
+/// them.
+BoundaryCurve unpack_curve_parameters(CurveType type, const double* row);
 
 }  // namespace femorph

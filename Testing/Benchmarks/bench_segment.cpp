@@ -129,7 +129,7 @@ Row run_part(const std::string& vtu, const std::string& name, int repeats, bool 
   reader->Update();
   vtkUnstructuredGrid* grid = reader->GetOutput();
   femorph::TetMesh mesh;
-  femorph::Status st = vtkFEMorphMeshConversion::ToTetMesh(grid, "bench", {}, mesh);
+  femorph::Status st = vtkFEMorphMeshConversion::ToTetMesh(grid, {}, mesh);
   if (!st.ok) {
     std::fprintf(stderr, "%s: %s\n", name.c_str(), st.message.c_str());
     std::exit(1);

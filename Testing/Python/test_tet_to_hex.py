@@ -515,7 +515,7 @@ def check_bad_input():
     t2h.UpdatePipeline()
     out = servermanager.Fetch(t2h)
     check(len(errors) >= 1, "no error for a hexahedron")
-    check(any("accepts tetrahedra only" in e and "1 VTK_HEXAHEDRON" in e for e in errors),
+    check(any("reads tetrahedra only" in e and "1 VTK_HEXAHEDRON" in e for e in errors),
           "error message %r" % errors)
     check(out.GetNumberOfCells() == 0 and out.GetNumberOfPoints() == 0,
           "output of %d cells, %d points after the error" % (out.GetNumberOfCells(),

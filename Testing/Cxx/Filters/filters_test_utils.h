@@ -2,11 +2,19 @@
 // errors and warnings a VTK object reports.
 #pragma once
 
+#include "vtkAbstractArray.h"
+#include "vtkCellData.h"
 #include "vtkCellType.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkCommand.h"
 #include "vtkIdList.h"
 #include "vtkNew.h"
 #include "vtkObject.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnstructuredGrid.h"
@@ -16,6 +24,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <array>
 #include <fstream>
 #include <functional>
@@ -199,6 +209,110 @@ inline void CheckFilterProperties(vtkXMLDataElement* proxy,
   EXPECT_EQ(seen.size(), expected.size() + strings.size());
 }
 
+
+/// A grid's points, connectivity, arrays (names, sizes, modification times)
+/// and modification time, to check that a filter left its input as it was.
+struct Snapshot
+{
+  std::vector<double> Coordinates;
+  std::vector<vtkIdType> Connectivity;
+  std::vector<std::string> Arrays;
+  vtkMTimeType MTime = 0;
+
+  explicit Snapshot(vtkUnstructuredGrid* grid)
+  {
+    for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
+    {
+      double p[3];
+      grid->GetPoint(i, p);
+      this->Coordinates.insert(this->Coordinates.end(), p, p + 3);
+    }
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+    {
+      grid->GetCellPoints(c, ids);
+      this->Connectivity.push_back(grid->GetCellType(c));
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      {
+        this->Connectivity.push_back(ids->GetId(k));
+      }
+    }
+    for (vtkFieldData* fd : { static_cast<vtkFieldData*>(grid->GetPointData()),
+           static_cast<vtkFieldData*>(grid->GetCellData()), grid->GetFieldData() })
+    {
+      this->Arrays.push_back("|");
+      for (int a = 0; a < fd->GetNumberOfArrays(); ++a)
+      {
+        vtkAbstractArray* array = fd->GetAbstractArray(a);
+        this->Arrays.push_back(std::string(array->GetName() ? array->GetName() : "") + ":" +
+          std::to_string(array->GetNumberOfTuples()) + ":" + std::to_string(array->GetMTime()));
+      }
+    }
+    this->MTime = grid->GetMTime();
+  }
+
+  bool operator==(const Snapshot& o) const
+  {
+    // NaN coordinates compare by bits.
+    if (this->Coordinates.size() != o.Coordinates.size())
+    {
+      return false;
+    }
+    for (std::size_t i = 0; i < this->Coordinates.size(); ++i)
+    {
+      const double a = this->Coordinates[i], b = o.Coordinates[i];
+      if (!(a == b || (std::isnan(a) && std::isnan(b))))
+      {
+        return false;
+      }
+    }
+    return this->Connectivity == o.Connectivity && this->Arrays == o.Arrays &&
+      this->MTime == o.MTime;
+  }
+};
+
+/// The segmentation arrays of FEMorph Segment for `faceRegions` (per cell,
+/// the region of the face opposite local vertex i, -1 interior): every
+/// region of unknown type (nothing fitted), no curves. For tests that need
+/// regions but not their fits.
+inline void AddUnknownSegmentation(
+  vtkUnstructuredGrid* grid, const std::vector<std::array<int, 4>>& faceRegions)
+{
+  int numRegions = 0;
+  vtkNew<vtkIntArray> faceRegion;
+  faceRegion->SetName("FaceRegion");
+  faceRegion->SetNumberOfComponents(4);
+  for (const auto& regions : faceRegions)
+  {
+    faceRegion->InsertNextTypedTuple(regions.data());
+    for (int r : regions)
+    {
+      numRegions = std::max(numRegions, r + 1);
+    }
+  }
+  grid->GetCellData()->AddArray(faceRegion);
+  vtkFieldData* fd = grid->GetFieldData();
+  auto add = [fd](vtkDataArray* a, const char* name, int components, vtkIdType tuples) {
+    a->SetName(name);
+    a->SetNumberOfComponents(components);
+    a->SetNumberOfTuples(tuples);
+    a->Fill(0);
+    fd->AddArray(a);
+  };
+  vtkNew<vtkIntArray> regionType, regionConvexity, curveType;
+  vtkNew<vtkDoubleArray> regionParameters, curveParameters;
+  vtkNew<vtkUnsignedCharArray> curveClosed;
+  vtkNew<vtkIdTypeArray> curveVertices, curveOffsets;
+  add(regionType, "RegionType", 1, numRegions);
+  regionType->Fill(5); // unknown
+  add(regionParameters, "RegionParameters", 12, numRegions);
+  add(regionConvexity, "RegionConvexity", 1, numRegions);
+  add(curveType, "CurveType", 1, 0);
+  add(curveParameters, "CurveParameters", 20, 0);
+  add(curveClosed, "CurveClosed", 1, 0);
+  add(curveVertices, "CurveVertices", 1, 0);
+  add(curveOffsets, "CurveOffsets", 1, 1);
+}
 
 /// A .vtu of Data/ by its path relative to Data/; null when it is missing.
 inline vtkSmartPointer<vtkUnstructuredGrid> ReadPart(const std::string& name)

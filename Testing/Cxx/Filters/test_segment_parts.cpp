@@ -143,7 +143,7 @@ struct Result {
 Result segment(vtkUnstructuredGrid* grid, const femorph::SegmentationParams& params) {
   Result r;
   femorph::TetMesh mesh;
-  femorph::Status s = vtkFEMorphMeshConversion::ToTetMesh(grid, "test", {}, mesh);
+  femorph::Status s = vtkFEMorphMeshConversion::ToTetMesh(grid, {}, mesh);
   EXPECT_TRUE(s.ok) << s.message;
   s = femorph::extract_boundary_surface(mesh, r.surface);
   EXPECT_TRUE(s.ok) << s.message;

@@ -928,24 +928,19 @@ TEST(Improve, BadInput)
       f->SetQualityFloor(0.1);
     },
     "QualityFloor");
-  // An inverted tet no local operation can repair (two tets on the same
-  // side of their shared face, all five points corners): an error naming
-  // it, or with RequireValid off the mesh with it marked.
+  // An inverted tet left unrepaired (two tets on the same side of their
+  // shared face, with the repair of inverted tetrahedra off): an error
+  // naming it, or with RequireValid off the mesh with it marked.
   for (const bool requireValid : { true, false })
   {
     auto grid = femorph_test::MakeGrid({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 0.1, 0.1, 0.1 } },
       { { VTK_TETRA, { 0, 1, 2, 3 } }, { VTK_TETRA, { 4, 1, 3, 2 } } });
-    vtkNew<vtkIntArray> regions;  // every boundary face its own region: all points corners
-    regions->SetName("FaceRegion");
-    regions->SetNumberOfComponents(4);
-    regions->InsertNextTuple4(-1, 0, 1, 2);
-    regions->InsertNextTuple4(-1, 3, 4, 5);
-    grid->GetCellData()->AddArray(regions);
     vtkNew<femorph_test::MessageRecorder> messages;
     vtkNew<vtkFEMorphImprove> improve;
     messages->Observe(improve);
     improve->SetInputData(grid);
     improve->SetSegmentIfMissing(false);
+    improve->SetRemoveInverted(false);
     improve->SetRequireValid(requireValid);
     improve->Update();
     if (requireValid)

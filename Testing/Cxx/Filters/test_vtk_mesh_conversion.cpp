@@ -25,6 +25,7 @@
 #include <set>
 
 using femorph_test::MakeGrid;
+using femorph_test::Snapshot;
 using femorph_test::MakeTwoTets;
 using Conversion = vtkFEMorphMeshConversion;
 
@@ -70,13 +71,13 @@ void AddArrays(vtkUnstructuredGrid* grid)
 }
 
 // Converts `input` to the core and back without edits.
-vtkSmartPointer<vtkUnstructuredGrid> RoundTrip(
-  vtkUnstructuredGrid* input, femorph::CompactMesh* compactOut = nullptr)
+vtkSmartPointer<vtkUnstructuredGrid> RoundTrip(vtkUnstructuredGrid* input,
+  femorph::CompactMesh* compactOut = nullptr, const femorph::BuildOptions& options = {})
 {
   femorph::TetMesh mesh;
   std::vector<std::string> warnings;
   const femorph::Status status =
-    Conversion::ToTetMesh(input, "Test", {}, mesh, nullptr, &warnings);
+    Conversion::ToTetMesh(input, options, mesh, nullptr, &warnings);
   EXPECT_TRUE(status.ok) << status.message;
   EXPECT_TRUE(warnings.empty());
   femorph::CompactMesh compact = mesh.compact();
@@ -170,72 +171,13 @@ void ExpectSameMesh(
   EXPECT_TRUE(vtkUnsignedCharArray::SafeDownCast(classes) != nullptr);
 }
 
-// Snapshot of a grid's points, connectivity and arrays, to check that a call
-// left it as it was.
-struct Snapshot
-{
-  std::vector<double> Coordinates;
-  std::vector<vtkIdType> Connectivity;
-  std::vector<std::string> ArrayNames;
-  vtkMTimeType MTime = 0;
-
-  explicit Snapshot(vtkUnstructuredGrid* grid)
-  {
-    for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
-    {
-      double p[3];
-      grid->GetPoint(i, p);
-      this->Coordinates.insert(this->Coordinates.end(), p, p + 3);
-    }
-    vtkNew<vtkIdList> ids;
-    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
-    {
-      grid->GetCellPoints(c, ids);
-      this->Connectivity.push_back(grid->GetCellType(c));
-      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-      {
-        this->Connectivity.push_back(ids->GetId(k));
-      }
-    }
-    for (vtkFieldData* fd :
-      { static_cast<vtkFieldData*>(grid->GetPointData()),
-        static_cast<vtkFieldData*>(grid->GetCellData()), grid->GetFieldData() })
-    {
-      this->ArrayNames.push_back("|");
-      for (int a = 0; a < fd->GetNumberOfArrays(); ++a)
-      {
-        this->ArrayNames.push_back(fd->GetAbstractArray(a)->GetName());
-      }
-    }
-    this->MTime = grid->GetMTime();
-  }
-
-  bool operator==(const Snapshot& o) const
-  {
-    // NaN coordinates compare by bits.
-    if (this->Coordinates.size() != o.Coordinates.size())
-    {
-      return false;
-    }
-    for (std::size_t i = 0; i < this->Coordinates.size(); ++i)
-    {
-      const double a = this->Coordinates[i], b = o.Coordinates[i];
-      if (!(a == b || (std::isnan(a) && std::isnan(b))))
-      {
-        return false;
-      }
-    }
-    return this->Connectivity == o.Connectivity && this->ArrayNames == o.ArrayNames &&
-      this->MTime == o.MTime;
-  }
-};
 
 // Expects ToTetMesh to refuse `grid` with a message containing every word.
 void ExpectRefused(vtkUnstructuredGrid* grid, const std::vector<std::string>& words)
 {
   const Snapshot before(grid);
   femorph::TetMesh mesh;
-  const femorph::Status status = Conversion::ToTetMesh(grid, "FEMorph Test", {}, mesh);
+  const femorph::Status status = Conversion::ToTetMesh(grid, {}, mesh);
   EXPECT_FALSE(status.ok);
   for (const auto& word : words)
   {
@@ -311,14 +253,24 @@ TEST(MeshConversion, FaceRegionPassesThrough)
   {
     GTEST_SKIP() << "Data/boss_block.vtu not found";
   }
-  // The CAD face tags have FaceRegion's layout (Data/README.md).
+  // The CAD face tags have FaceRegion's layout (Data/README.md); the caller
+  // hands them to the conversion.
   vtkNew<vtkIntArray> regions;
   regions->DeepCopy(input->GetCellData()->GetArray("CADFace"));
   regions->SetName(Conversion::FaceRegionName);
   input->GetCellData()->AddArray(regions);
+  femorph::BuildOptions options;
+  options.face_regions.resize(static_cast<std::size_t>(input->GetNumberOfCells()));
+  for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+  {
+    for (int f = 0; f < 4; ++f)
+    {
+      options.face_regions[c][f] = regions->GetValue(4 * c + f);
+    }
+  }
 
   femorph::CompactMesh compact;
-  auto output = RoundTrip(input, &compact);
+  auto output = RoundTrip(input, &compact, options);
   vtkDataArray* out = output->GetCellData()->GetArray(Conversion::FaceRegionName);
   ASSERT_NE(out, nullptr);
   ASSERT_EQ(out->GetNumberOfComponents(), 4);
@@ -354,7 +306,7 @@ TEST(MeshConversion, SplitEdgeInterpolatesAndInherits)
   auto input = MakeTwoTets();
   AddArrays(input);
   femorph::TetMesh mesh;
-  ASSERT_TRUE(Conversion::ToTetMesh(input, "Test", {}, mesh).ok);
+  ASSERT_TRUE(Conversion::ToTetMesh(input, {}, mesh).ok);
 
   // Edge (1, 2) lies on the shared face: both tets split, four children.
   femorph::index_t v = -1;
@@ -405,16 +357,16 @@ TEST(MeshConversion, RefusesOtherCellTypes)
     { { VTK_HEXAHEDRON, { 0, 1, 2, 3, 4, 5, 6, 7 } }, { VTK_TETRA, { 4, 5, 6, 8 } },
       { VTK_TRIANGLE, { 0, 1, 2 } }, { VTK_TRIANGLE, { 0, 2, 3 } } });
   ExpectRefused(grid.Get(),
-    { "FEMorph Test accepts tetrahedra only", "2 VTK_TRIANGLE and 1 VTK_HEXAHEDRON cells" });
+    { "reads tetrahedra only", "2 VTK_TRIANGLE and 1 VTK_HEXAHEDRON cells" });
 }
 
 TEST(MeshConversion, RefusesNonFiniteCoordinates)
 {
   auto grid = MakeTwoTets();
   grid->GetPoints()->SetPoint(4, 1, std::numeric_limits<double>::quiet_NaN(), 1);
-  ExpectRefused(grid.Get(), { "FEMorph Test", "1 point has NaN or infinite coordinates" });
+  ExpectRefused(grid.Get(), { "1 point of the input has NaN or infinite coordinates" });
   grid->GetPoints()->SetPoint(0, std::numeric_limits<double>::infinity(), 0, 0);
-  ExpectRefused(grid.Get(), { "2 points have NaN or infinite coordinates" });
+  ExpectRefused(grid.Get(), { "2 points of the input have NaN or infinite coordinates" });
 }
 
 TEST(MeshConversion, RefusesMixedOrientation)
@@ -423,15 +375,15 @@ TEST(MeshConversion, RefusesMixedOrientation)
   // inconsistent with its neighbour.
   auto grid = MakeGrid({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 1, 1 } },
     { { VTK_TETRA, { 0, 1, 2, 3 } }, { VTK_TETRA, { 4, 1, 2, 3 } } });
-  ExpectRefused(grid.Get(), { "FEMorph Test", "not valid", "orientation" });
+  ExpectRefused(grid.Get(), { "not valid", "orientation" });
 }
 
 TEST(MeshConversion, RefusesEmptyInput)
 {
   vtkNew<vtkUnstructuredGrid> empty;
-  ExpectRefused(empty.Get(), { "FEMorph Test", "no cells" });
+  ExpectRefused(empty.Get(), { "no cells" });
   femorph::TetMesh mesh;
-  EXPECT_FALSE(Conversion::ToTetMesh(nullptr, "FEMorph Test", {}, mesh).ok);
+  EXPECT_FALSE(Conversion::ToTetMesh(nullptr, {}, mesh).ok);
 }
 
 TEST(MeshConversion, WarnsAboutUnusedPoints)
@@ -442,7 +394,7 @@ TEST(MeshConversion, WarnsAboutUnusedPoints)
   femorph::TetMesh mesh;
   femorph::BuildReport report;
   std::vector<std::string> warnings;
-  ASSERT_TRUE(Conversion::ToTetMesh(grid, "FEMorph Test", {}, mesh, &report, &warnings).ok);
+  ASSERT_TRUE(Conversion::ToTetMesh(grid, {}, mesh, &report, &warnings).ok);
   EXPECT_EQ(report.unused_points, 1u);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("1 point is not used"), std::string::npos) << warnings[0];
@@ -452,58 +404,66 @@ TEST(MeshConversion, WarnsAboutUnusedPoints)
   EXPECT_EQ(output->GetPointData()->GetArray("Label")->GetRange()[1], 40);
 }
 
-// ToTetMesh reads an int FaceRegion in place and any other numeric type
-// value by value: both give the same regions.
-TEST(MeshConversion, FaceRegionOfAnyNumericTypeGivesTheSameRegions)
+// The face regions come from BuildOptions only (the caller reads and checks
+// them, vtkFEMorphSegmentationArrays::ReadFromMesh): a FaceRegion array on
+// the grid, even a malformed one, is not read.
+TEST(MeshConversion, FaceRegionsComeFromTheOptionsOnly)
 {
-  auto input = femorph_test::ReadPart("boss_block.vtu");
-  if (!input)
-  {
-    GTEST_SKIP() << "Data/boss_block.vtu not found";
-  }
-  femorph::TetMesh meshes[2];
-  for (int k = 0; k < 2; ++k)
-  {
-    vtkSmartPointer<vtkDataArray> regions;
-    if (k == 0)
-    {
-      regions = vtkSmartPointer<vtkIntArray>::New();
-    }
-    else
-    {
-      regions = vtkSmartPointer<vtkDoubleArray>::New();
-    }
-    regions->DeepCopy(input->GetCellData()->GetArray("CADFace"));
-    regions->SetName(Conversion::FaceRegionName);
-    input->GetCellData()->AddArray(regions);
-    ASSERT_TRUE(Conversion::ToTetMesh(input, "FEMorph Test", {}, meshes[k]).ok);
-  }
-  ASSERT_EQ(meshes[0].tet_slots(), meshes[1].tet_slots());
-  std::size_t withRegion = 0;
-  for (femorph::index_t t = 0; t < meshes[0].tet_slots(); ++t)
+  auto grid = MakeTwoTets();
+  vtkNew<vtkIntArray> garbage;
+  garbage->SetName(Conversion::FaceRegionName);
+  garbage->SetNumberOfComponents(4);
+  garbage->SetNumberOfTuples(1); // one tuple for two cells
+  garbage->Fill(VTK_INT_MAX);
+  grid->GetCellData()->AddArray(garbage);
+  femorph::TetMesh mesh;
+  ASSERT_TRUE(Conversion::ToTetMesh(grid, {}, mesh).ok);
+  for (femorph::index_t t = 0; t < 2; ++t)
   {
     for (int f = 0; f < 4; ++f)
     {
-      EXPECT_EQ(meshes[0].face_region(t, f), meshes[1].face_region(t, f));
-      withRegion += meshes[0].face_region(t, f) >= 0;
+      EXPECT_EQ(mesh.face_region(t, f), -1);
     }
   }
-  EXPECT_GT(withRegion, 1000u);
+
+  femorph::BuildOptions options;
+  options.face_regions = { { 0, 1, 1, 1 }, { 0, 2, 1, 1 } };
+  ASSERT_TRUE(Conversion::ToTetMesh(grid, options, mesh).ok);
+  EXPECT_EQ(mesh.face_region(0, 0), -1); // the shared face (1, 2, 3) is interior
+  EXPECT_EQ(mesh.face_region(0, 1), 1);
+  EXPECT_EQ(mesh.face_region(1, 1), 2);
 }
 
-TEST(MeshConversion, WarnsAboutMalformedFaceRegion)
+// One set of input checks for every filter, in a fixed order.
+TEST(MeshConversion, CheckGridNamesEachProblem)
 {
-  auto grid = MakeTwoTets();
-  vtkNew<vtkIntArray> regions;
-  regions->SetName(Conversion::FaceRegionName);
-  regions->InsertNextValue(1);
-  regions->InsertNextValue(2);
-  grid->GetCellData()->AddArray(regions);
-  femorph::TetMesh mesh;
-  std::vector<std::string> warnings;
-  ASSERT_TRUE(Conversion::ToTetMesh(grid, "FEMorph Test", {}, mesh, nullptr, &warnings).ok);
-  ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_NE(warnings[0].find("1 components instead of 4"), std::string::npos) << warnings[0];
+  using CellSet = Conversion::CellSet;
+  auto good = MakeTwoTets();
+  EXPECT_EQ(Conversion::CheckGrid(good, CellSet::Tetrahedra), "");
+
+  auto badId = MakeGrid({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } },
+    { { VTK_TETRA, { 0, 1, 2, 7 } } });
+  EXPECT_NE(Conversion::CheckGrid(badId, CellSet::Any, "the Reference input")
+              .find("cell 0 of the Reference input refers to point 7, but there are 4 points"),
+    std::string::npos);
+
+  auto shortTet = MakeGrid({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } },
+    { { VTK_TETRA, { 0, 1, 2 } } });
+  EXPECT_NE(Conversion::CheckGrid(shortTet, CellSet::Tetrahedra)
+              .find("cell 0 of the input is a VTK_TETRA with 3 points instead of 4"),
+    std::string::npos);
+
+  auto mixed = MakeGrid({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } },
+    { { VTK_TETRA, { 0, 1, 2, 3 } }, { VTK_TRIANGLE, { 0, 1, 2 } } });
+  EXPECT_EQ(Conversion::CheckGrid(mixed, CellSet::Any), "");
+  EXPECT_NE(Conversion::CheckGrid(mixed, CellSet::Linear3D).find("1 VTK_TRIANGLE cell"),
+    std::string::npos);
+
+  vtkNew<vtkUnstructuredGrid> noPoints;
+  const vtkIdType ids[4] = { 0, 1, 2, 3 };
+  noPoints->InsertNextCell(VTK_TETRA, 4, ids);
+  EXPECT_NE(Conversion::CheckGrid(noPoints, CellSet::Tetrahedra).find("1 cell but no points"),
+    std::string::npos);
 }
 
 TEST(MeshConversion, CellTypeNames)

@@ -158,7 +158,7 @@ void MakeFixture(bool flipped, Fixture& f)
   femorph::TetMesh mesh;
   femorph::BuildReport report;
   const femorph::Status converted =
-    vtkFEMorphMeshConversion::ToTetMesh(f.Input, "test", {}, mesh, &report);
+    vtkFEMorphMeshConversion::ToTetMesh(f.Input, {}, mesh, &report);
   ASSERT_TRUE(converted) << converted.message;
   EXPECT_EQ(report.flipped_tets, flipped ? static_cast<std::size_t>(f.Input->GetNumberOfCells()) : 0u);
   const femorph::Status extracted = femorph::extract_boundary_surface(mesh, f.Surface);
@@ -432,7 +432,7 @@ void CheckMeshArrays(vtkUnstructuredGrid* out, const Fixture& f)
 void CheckReadBack(vtkUnstructuredGrid* grid, const Fixture& f)
 {
   Arrays::MeshSegmentation read;
-  const femorph::Status status = Arrays::ReadFromMesh(grid, "FEMorph Test", read);
+  const femorph::Status status = Arrays::ReadFromMesh(grid, read);
   ASSERT_TRUE(status) << status.message;
   vtkDataArray* faceRegion = grid->GetCellData()->GetArray(Arrays::FaceRegionName);
   ASSERT_EQ(read.FaceRegions.size(), static_cast<std::size_t>(grid->GetNumberOfCells()));
@@ -859,9 +859,9 @@ TEST(SegmentationArraysRefusals, ReaderNamesTheProblem)
   ASSERT_TRUE(Arrays::WriteToMesh(f.Surface, f.Segmentation, good));
 
   Arrays::MeshSegmentation read;
-  femorph::Status status = Arrays::ReadFromMesh(f.Input, "FEMorph Deform", read);
+  femorph::Status status = Arrays::ReadFromMesh(f.Input, read);
   ASSERT_FALSE(status);
-  EXPECT_NE(status.message.find("FEMorph Deform: the input has no field array RegionType"),
+  EXPECT_NE(status.message.find("the input has no field array RegionType"),
     std::string::npos)
     << status.message;
   EXPECT_NE(status.message.find("Run FEMorph Segment"), std::string::npos) << status.message;
@@ -948,13 +948,42 @@ TEST(SegmentationArraysRefusals, ReaderNamesTheProblem)
       [&](vtkUnstructuredGrid* g) {
         g->GetPointData()->AddArray(intArray(Arrays::VertexClassName, 1, { 1 }));
       } },
+    { "FaceRegion has the value 2.14748e+09 at 0",
+      [](vtkUnstructuredGrid* g) {
+        g->GetCellData()->GetArray(Arrays::FaceRegionName)->SetComponent(0, 0, VTK_INT_MAX);
+      } },
+    { "FaceRegion has the value -2 at 1, component 3",
+      [](vtkUnstructuredGrid* g) {
+        g->GetCellData()->GetArray(Arrays::FaceRegionName)->SetComponent(1, 3, -2);
+      } },
+    { "FaceRegion has 3 values instead of",
+      [](vtkUnstructuredGrid* g) {
+        g->GetCellData()->GetArray(Arrays::FaceRegionName)->SetNumberOfTuples(3);
+      } },
+    { "RegionParameters has a NaN or infinite value at 2, component 6",
+      [](vtkUnstructuredGrid* g) {
+        g->GetFieldData()->GetArray(Arrays::RegionParametersName)->SetComponent(2, 6, std::nan(""));
+      } },
+    { "CurveParameters has a NaN or infinite value at 1, component 9",
+      [](vtkUnstructuredGrid* g) {
+        g->GetFieldData()->GetArray(Arrays::CurveParametersName)
+          ->SetComponent(1, 9, std::numeric_limits<double>::infinity());
+      } },
+    { "CurveParameters names regions 6 and",
+      [](vtkUnstructuredGrid* g) {
+        g->GetFieldData()->GetArray(Arrays::CurveParametersName)->SetComponent(0, 17, 6);
+      } },
+    { "(continuity 0.5)",
+      [](vtkUnstructuredGrid* g) {
+        g->GetFieldData()->GetArray(Arrays::CurveParametersName)->SetComponent(0, 19, 0.5);
+      } },
   };
   for (const Case& c : cases)
   {
     vtkNew<vtkUnstructuredGrid> broken;
     broken->DeepCopy(good);
     c.Break(broken);
-    status = Arrays::ReadFromMesh(broken, "FEMorph Deform", read);
+    status = Arrays::ReadFromMesh(broken, read);
     ASSERT_FALSE(status) << c.Expected;
     EXPECT_NE(status.message.find(c.Expected), std::string::npos) << status.message;
     EXPECT_TRUE(read.FaceRegions.empty() && read.RegionTypes.empty()) << c.Expected;
@@ -964,9 +993,55 @@ TEST(SegmentationArraysRefusals, ReaderNamesTheProblem)
   vtkNew<vtkUnstructuredGrid> noClasses;
   noClasses->DeepCopy(good);
   noClasses->GetPointData()->RemoveArray(Arrays::VertexClassName);
-  status = Arrays::ReadFromMesh(noClasses, "FEMorph Deform", read);
+  status = Arrays::ReadFromMesh(noClasses, read);
   ASSERT_TRUE(status) << status.message;
   EXPECT_TRUE(read.VertexClasses.empty());
   EXPECT_EQ(read.RegionTypes.size(), 6u);
-  EXPECT_FALSE(Arrays::ReadFromMesh(nullptr, "FEMorph Deform", read));
+  EXPECT_FALSE(Arrays::ReadFromMesh(nullptr, read));
+
+  // Whether any segmentation array is there decides "absent" from
+  // "malformed".
+  EXPECT_TRUE(Arrays::HasSegmentation(good));
+  EXPECT_FALSE(Arrays::HasSegmentation(f.Input));
+  vtkNew<vtkUnstructuredGrid> onlyFaceRegion;
+  onlyFaceRegion->ShallowCopy(f.Input);
+  onlyFaceRegion->GetCellData()->AddArray(good->GetCellData()->GetArray(Arrays::FaceRegionName));
+  EXPECT_TRUE(Arrays::HasSegmentation(onlyFaceRegion));
+  EXPECT_FALSE(Arrays::HasSegmentation(nullptr));
+}
+
+// The curves read back whole: the rows unpacked (regions, continuity, fit)
+// with their vertices and closedness.
+TEST(SegmentationArraysRead, UnpacksTheCurves)
+{
+  Fixture f;
+  MakeFixture(false, f);
+  if (HasFatalFailure())
+  {
+    return;
+  }
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->ShallowCopy(f.Input);
+  ASSERT_TRUE(Arrays::WriteToMesh(f.Surface, f.Segmentation, grid));
+  Arrays::MeshSegmentation read;
+  ASSERT_TRUE(Arrays::ReadFromMesh(grid, read));
+  ASSERT_EQ(read.Curves.size(), f.Segmentation.curves.size());
+  ASSERT_FALSE(read.Curves.empty());
+  for (std::size_t c = 0; c < read.Curves.size(); ++c)
+  {
+    const femorph::BoundaryCurve& in = f.Segmentation.curves[c];
+    const femorph::BoundaryCurve& out = read.Curves[c];
+    EXPECT_EQ(out.type, in.type);
+    EXPECT_EQ(out.curve.type, in.type);
+    EXPECT_EQ(out.region_a, in.region_a);
+    EXPECT_EQ(out.region_b, in.region_b);
+    EXPECT_EQ(out.continuity, in.continuity);
+    EXPECT_EQ(out.closed, in.closed);
+    EXPECT_EQ(femorph::pack_curve_parameters(out), femorph::pack_curve_parameters(in));
+    ASSERT_EQ(out.vertices.size(), in.vertices.size());
+    for (std::size_t i = 0; i < in.vertices.size(); ++i)
+    {
+      EXPECT_EQ(out.vertices[i], f.Surface.source_vertex[in.vertices[i]]);
+    }
+  }
 }
