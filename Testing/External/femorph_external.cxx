@@ -61,8 +61,8 @@ int main(int argc, char* argv[])
   vtkNew<vtkFEMorphMeshQuality> quality;
   quality->SetInputConnection(reader->GetOutputPort());
   quality->Update();
+  vtkDataArray* stretch = quality->GetOutput()->GetCellData()->GetArray("Stretch");
   vtkUnstructuredGrid* q = quality->GetOutput();
-  vtkDataArray* stretch = q->GetCellData()->GetArray("Stretch");
   check(stretch != nullptr, "cell array Stretch");
   if (stretch)
   {
