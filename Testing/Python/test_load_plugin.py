@@ -2,6 +2,7 @@
 
   pvbatch|pvpython test_load_plugin.py --plugin path/FEMorph.so   LoadPlugin(path, ns=globals())
   PV_PLUGIN_PATH=dir pvbatch|pvpython test_load_plugin.py         autoload from the environment
+  PV_PLUGIN_CONFIG_FILE=femorph.plugins.xml pvpython test_load_plugin.py   the same, by the plugins file
 
 Also checks what the GUI shows: the proxy's label, menu category and the
 StretchThreshold default, and that the XML documentation names the arrays.
@@ -25,7 +26,8 @@ def main():
     if args.plugin:
         simple.LoadPlugin(args.plugin, ns=ns)
     else:
-        assert os.environ.get("PV_PLUGIN_PATH"), "set PV_PLUGIN_PATH or pass --plugin"
+        assert os.environ.get("PV_PLUGIN_PATH") or os.environ.get("PV_PLUGIN_CONFIG_FILE"), \
+            "set PV_PLUGIN_PATH or PV_PLUGIN_CONFIG_FILE, or pass --plugin"
         # Autoloaded plugins are registered before the script runs; paraview.simple
         # creates its functions for them on import.
     if "FEMorphMeshQuality" in ns:
