@@ -292,6 +292,19 @@ std::vector<femorph::Vec3> vtkFEMorphMeshConversion::ReadPoints(vtkUnstructuredG
 }
 
 //------------------------------------------------------------------------------
+vtkSmartPointer<vtkPoints> vtkFEMorphMeshConversion::NewPoints(const std::vector<femorph::Vec3>& points)
+{
+  auto out = vtkSmartPointer<vtkPoints>::New();
+  out->SetDataTypeToDouble();
+  out->SetNumberOfPoints(static_cast<vtkIdType>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    out->SetPoint(static_cast<vtkIdType>(i), points[i].data());
+  }
+  return out;
+}
+
+//------------------------------------------------------------------------------
 femorph::Status vtkFEMorphMeshConversion::ReadTetGrid(
   vtkUnstructuredGrid* grid, std::vector<femorph::Vec3>& points, std::vector<femorph::Tet>& tets)
 {
@@ -531,15 +544,7 @@ void vtkFEMorphMeshConversion::FromCompactMesh(
   const vtkIdType numPoints = static_cast<vtkIdType>(mesh.points.size());
   const vtkIdType numTets = static_cast<vtkIdType>(mesh.tets.size());
 
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(numPoints);
-  for (vtkIdType i = 0; i < numPoints; ++i)
-  {
-    points->SetPoint(i, mesh.points[i].data());
-  }
-  output->SetPoints(points);
-
+  output->SetPoints(NewPoints(mesh.points));
   SetTetCells(output, mesh.tets);
 
   // Point data: interpolate with the vertex stencils; FEMorph's own arrays

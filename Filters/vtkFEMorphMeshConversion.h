@@ -45,6 +45,7 @@
 #define vtkFEMorphMeshConversion_h
 
 #include "FEMorphFiltersModule.h" // For export macro
+#include "vtkSmartPointer.h"    // For vtkSmartPointer
 #include "vtkType.h"            // For vtkIdType
 
 #include "common/types.h"     // femorph::Status, Vec3, Tet
@@ -87,8 +88,11 @@ public:
   static std::string CheckGrid(
     vtkUnstructuredGrid* grid, CellSet cells, const std::string& gridName = "the input");
 
-  /// The grid's points as the core's positions.
+  ///@{
+  /// The grid's points as the core's positions, and back (double).
   static std::vector<femorph::Vec3> ReadPoints(vtkUnstructuredGrid* grid);
+  static vtkSmartPointer<vtkPoints> NewPoints(const std::vector<femorph::Vec3>& points);
+  ///@}
 
   /// Points and tetrahedra of a grid of VTK_TETRA cells (fails with
   /// CheckGrid's message otherwise).

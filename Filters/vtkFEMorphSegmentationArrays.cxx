@@ -371,14 +371,7 @@ Status vtkFEMorphSegmentationArrays::WriteSurface(const femorph::SurfaceMesh& su
   const vtkIdType nf = surface.num_triangles();
   const vtkIdType nc = static_cast<vtkIdType>(segmentation.curves.size());
 
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(np);
-  for (vtkIdType v = 0; v < np; ++v)
-  {
-    points->SetPoint(v, surface.points[v].data());
-  }
-  output->SetPoints(points);
+  output->SetPoints(vtkFEMorphMeshConversion::NewPoints(surface.points));
 
   vtkNew<vtkCellArray> polys;
   polys->AllocateExact(nf, 3 * nf);

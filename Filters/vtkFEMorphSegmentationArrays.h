@@ -64,6 +64,7 @@
 #define vtkFEMorphSegmentationArrays_h
 
 #include "FEMorphFiltersModule.h" // For export macro
+#include "vtkFEMorphMeshConversion.h" // For the array names
 #include "vtkType.h"            // For vtkIdType
 
 #include "common/types.h"          // femorph::Status
@@ -84,8 +85,8 @@ class FEMORPHFILTERS_EXPORT vtkFEMorphSegmentationArrays
 public:
   ///@{
   /// Array names (docs/ARCHITECTURE.md).
-  static constexpr const char* FaceRegionName = "FaceRegion";
-  static constexpr const char* VertexClassName = "VertexClass";
+  static constexpr const char* FaceRegionName = vtkFEMorphMeshConversion::FaceRegionName;
+  static constexpr const char* VertexClassName = vtkFEMorphMeshConversion::VertexClassName;
   static constexpr const char* RegionTypeName = "RegionType";
   static constexpr const char* RegionParametersName = "RegionParameters";
   static constexpr const char* RegionConvexityName = "RegionConvexity";
