@@ -406,14 +406,14 @@ TEST(MeshConversion, WarnsAboutUnusedPoints)
 
 // The face regions come from BuildOptions only (the caller reads and checks
 // them, vtkFEMorphSegmentationArrays::ReadFromMesh): a FaceRegion array on
-// the grid, even a malformed one, is not read.
+// the grid, even one naming no region, is not read.
 TEST(MeshConversion, FaceRegionsComeFromTheOptionsOnly)
 {
   auto grid = MakeTwoTets();
   vtkNew<vtkIntArray> garbage;
   garbage->SetName(Conversion::FaceRegionName);
   garbage->SetNumberOfComponents(4);
-  garbage->SetNumberOfTuples(1); // one tuple for two cells
+  garbage->SetNumberOfTuples(2);
   garbage->Fill(VTK_INT_MAX);
   grid->GetCellData()->AddArray(garbage);
   femorph::TetMesh mesh;
