@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <limits>
 #include <utility>
 
 namespace femorph {
@@ -22,13 +21,6 @@ inline bool contains(const std::vector<T>& v, const T& x) {
 }
 
 }  // namespace
-
-bool TetMesh::link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
-                             const std::vector<index_t>& ball_b, const std::vector<index_t>& ring) const {
-  const std::uint32_t in_a = next_vertex_stamp();
-  const std::uint32_t in_ring = next_vertex_stamp();
-  return link_condition(a, b, ball_a, ball_b, ring, vertex_stamp_.data(), in_a, in_ring);
-}
 
 bool TetMesh::link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
                              const std::vector<index_t>& ball_b, const std::vector<index_t>& ring, std::uint32_t* mark,
@@ -187,12 +179,8 @@ OpStatus TetMesh::check_collapse(index_t keep, index_t remove, const Vec3& p, co
   if (p != points_[keep])
     for (index_t t : ball_keep)
       if (local_index(t, remove) < 0 && !positive_after(rec_[t].v)) return OpStatus::Inverted;
-  if (stamps.stamp.size() < points_.size()) stamps.stamp.resize(points_.size(), 0);
-  if (stamps.value >= std::numeric_limits<std::uint32_t>::max() - 2) {
-    std::fill(stamps.stamp.begin(), stamps.stamp.end(), 0);
-    stamps.value = 0;
-  }
-  const std::uint32_t in_a = ++stamps.value, in_ring = ++stamps.value;
+  const std::uint32_t in_a = stamps.next(points_.size());
+  const std::uint32_t in_ring = stamps.next(points_.size());
   if (!link_condition(keep, remove, ball_keep, ball_remove, ring, stamps.stamp.data(), in_a, in_ring))
     return OpStatus::LinkCondition;
   return OpStatus::Ok;

@@ -347,24 +347,6 @@ void TetMesh::delete_vertex(index_t v) {
   free_vertices_.push_back(v);
 }
 
-std::uint16_t TetMesh::next_tet_mark() const {
-  if (tet_mark_.size() < rec_.size()) tet_mark_.resize(rec_.size(), 0);
-  if (++tet_mark_value_ == 0) {
-    std::fill(tet_mark_.begin(), tet_mark_.end(), 0);
-    tet_mark_value_ = 1;
-  }
-  return tet_mark_value_;
-}
-
-std::uint32_t TetMesh::next_vertex_stamp() const {
-  if (vertex_stamp_.size() < points_.size()) vertex_stamp_.resize(points_.size(), 0);
-  if (++vertex_stamp_value_ == 0) {
-    std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0);
-    vertex_stamp_value_ = 1;
-  }
-  return vertex_stamp_value_;
-}
-
 void TetMesh::set_face_region(index_t t, int f, index_t region) {
   if (rec_[t].n[f] < 0) rec_[t].n[f] = internal::boundary_code(region);
 }
@@ -385,18 +367,14 @@ void TetMesh::vertex_ball(index_t v, std::vector<index_t>& out) const {
   out.clear();
   if (vertex_tet_[v] < 0) return;
   const std::uint16_t mark = next_tet_mark();
-  walk_ball(v, out, tet_mark_.data(), mark);
+  walk_ball(v, out, tet_marks_.stamp.data(), mark);
 }
 
 void TetMesh::vertex_ball(index_t v, std::vector<index_t>& out, WalkMarks& marks) const {
   out.clear();
   if (vertex_tet_[v] < 0) return;
-  if (marks.mark.size() < rec_.size()) marks.mark.resize(rec_.size(), 0);
-  if (++marks.value == 0) {
-    std::fill(marks.mark.begin(), marks.mark.end(), 0);
-    marks.value = 1;
-  }
-  walk_ball(v, out, marks.mark.data(), marks.value);
+  const std::uint16_t mark = marks.next(rec_.size());
+  walk_ball(v, out, marks.stamp.data(), mark);
 }
 
 index_t TetMesh::walk_ball(index_t v, std::vector<index_t>& out, std::uint16_t* marks, std::uint16_t mark,
@@ -453,8 +431,8 @@ index_t TetMesh::find_edge_tet(index_t a, index_t b, index_t hint) const {
   if (edge_tet_without_walk(a, b, hint, &t)) return t;
   scratch_verts_.clear();
   if (vertex_tet_[a] < 0) return kInvalidIndex;
-  const std::uint16_t mark = next_tet_mark();  // may grow tet_mark_
-  return walk_ball(a, scratch_verts_, tet_mark_.data(), mark, b);
+  const std::uint16_t mark = next_tet_mark();  // may grow tet_marks_
+  return walk_ball(a, scratch_verts_, tet_marks_.stamp.data(), mark, b);
 }
 
 index_t TetMesh::find_edge_tet(index_t a, index_t b, index_t hint, WalkMarks& marks) const {
@@ -463,12 +441,8 @@ index_t TetMesh::find_edge_tet(index_t a, index_t b, index_t hint, WalkMarks& ma
   thread_local std::vector<index_t> ball;
   ball.clear();
   if (vertex_tet_[a] < 0) return kInvalidIndex;
-  if (marks.mark.size() < rec_.size()) marks.mark.resize(rec_.size(), 0);
-  if (++marks.value == 0) {
-    std::fill(marks.mark.begin(), marks.mark.end(), 0);
-    marks.value = 1;
-  }
-  return walk_ball(a, ball, marks.mark.data(), marks.value, b);
+  const std::uint16_t mark = marks.next(rec_.size());
+  return walk_ball(a, ball, marks.stamp.data(), mark, b);
 }
 
 bool TetMesh::edge_ring(index_t a, index_t b, std::vector<index_t>& ring, bool* on_boundary, index_t hint) const {
@@ -578,11 +552,6 @@ bool TetMesh::open_ring_on_curve(const std::vector<index_t>& ring, const std::ve
   return face_region(first, local_index(first, c[1])) != face_region(last, local_index(last, c[c.size() - 2]));
 }
 
-VertexClass TetMesh::classify_vertex(index_t v) const {
-  vertex_ball(v, scratch_ball_);
-  return classify_ball(v, scratch_ball_);
-}
-
 VertexClass TetMesh::classify_ball(index_t v, const std::vector<index_t>& ball) const {
   // Regions of the boundary faces around v, and the curve edges at v.
   index_t region0 = kInvalidIndex - 1;  // "none seen yet"
@@ -681,7 +650,8 @@ void TetMesh::replace_tets(const std::vector<index_t>& old_tets, const std::vect
   std::vector<FaceSlot>& slots = internal::face_slot_scratch();
   slots.clear();
   const std::uint16_t in_cavity = next_tet_mark();
-  for (index_t t : old_tets) tet_mark_[t] = in_cavity;
+  std::vector<std::uint16_t>& mark = tet_marks_.stamp;
+  for (index_t t : old_tets) mark[t] = in_cavity;
   auto make_slot = [](index_t x, index_t y, index_t z, index_t code, index_t is_new) {
     FaceSlot fs{{x, y, z}, code, is_new};
     internal::sort3_ids(fs.v);
@@ -692,7 +662,7 @@ void TetMesh::replace_tets(const std::vector<index_t>& old_tets, const std::vect
     const TetRecord& R = rec_[t];
     for (int f = 0; f < 4; ++f) {
       const index_t code = R.n[f];
-      if (code >= 0 && tet_mark_[code >> 2] == in_cavity) continue;  // inside the cavity
+      if (code >= 0 && mark[code >> 2] == in_cavity) continue;  // inside the cavity
       index_t w[3];
       for (int k = 0; k < 3; ++k) {
         w[k] = R.v[kTetFace[f][k]];
@@ -916,12 +886,8 @@ std::vector<index_t> TetMesh::sort_spatially() {
   }
   free_tets_.clear();
   free_vertices_.clear();
-  tet_mark_.assign(rec_.size(), 0);
-  tet_mark_value_ = 0;
-  vertex_stamp_.assign(points_.size(), 0);
-  vertex_stamp_value_ = 0;
-  link_stamps_.stamp.assign(points_.size(), 0);
-  link_stamps_.value = 0;
+  tet_marks_.reset(rec_.size());
+  link_stamps_.reset(points_.size());
   touched_.clear();
   return vmap;
 }
@@ -930,8 +896,8 @@ std::size_t TetMesh::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   return bytes(points_) + bytes(rec_) + bytes(vertex_tet_) + bytes(vclass_) +
          bytes(tet_origin_) + bytes(vertex_origin_) + bytes(free_tets_) + bytes(free_vertices_) +
-         bytes(tet_mark_) + bytes(vertex_stamp_) + bytes(link_stamps_.stamp) + bytes(scratch_ring_) + bytes(scratch_verts_) + bytes(scratch_ball_) +
-         bytes(scratch_ball2_) + bytes(scratch_new_) + bytes(scratch_origin_) + bytes(touched_);
+         bytes(tet_marks_.stamp) + bytes(link_stamps_.stamp) + bytes(scratch_ring_) + bytes(scratch_verts_) +
+         bytes(scratch_ball_) + bytes(scratch_ball2_) + bytes(scratch_new_) + bytes(scratch_origin_) + bytes(touched_);
 }
 
 Status TetMesh::check_consistency() const {

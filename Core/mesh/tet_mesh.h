@@ -30,6 +30,7 @@
 // from several threads at once, even through const methods.
 #pragma once
 
+#include "common/stamps.h"
 #include "common/types.h"
 
 #include <cstdint>
@@ -170,10 +171,7 @@ class TetMesh {
   /// The same walk (same order) with the caller's visit marks: safe from
   /// several threads at once, each with its own marks, while the mesh does
   /// not change. vertex_ball(v, tets) uses the mesh's own marks.
-  struct WalkMarks {
-    std::vector<std::uint16_t> mark;
-    std::uint16_t value = 0;
-  };
+  using WalkMarks = Stamps<std::uint16_t>;
   void vertex_ball(index_t v, std::vector<index_t>& tets, WalkMarks& marks) const;
   /// Vertices adjacent to v by an edge.
   void vertex_neighbors(index_t v, std::vector<index_t>& vertices) const;
@@ -239,10 +237,7 @@ class TetMesh {
   OpStatus collapse_edge(index_t keep, index_t remove, const Vec3* position, const std::vector<index_t>& ball_keep,
                          const std::vector<index_t>& ball_remove);
   /// Per-caller vertex stamps for check_collapse from several threads.
-  struct VertexStamps {
-    std::vector<std::uint32_t> stamp;
-    std::uint32_t value = 0;
-  };
+  using VertexStamps = Stamps<std::uint32_t>;
   /// The checks of collapse_edge(keep, remove, &p, ball_keep, ball_remove)
   /// without changing the mesh: Ok when it would collapse. Read only, with
   /// the caller's stamps: safe from several threads at once while the mesh
@@ -350,20 +345,15 @@ class TetMesh {
                        const std::vector<index_t>& ring, const std::vector<index_t>& unchanged);
   /// Link condition of thesis 2.6.1.3 / Dey et al. for collapsing (a, b):
   /// Lk(a) n Lk(b) = Lk(ab), with a vertex at infinity coning the boundary.
-  /// ball_a, ball_b: the balls of a and b; ring: the tets on the edge.
-  bool link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
-                      const std::vector<index_t>& ball_b, const std::vector<index_t>& ring) const;
-  /// The same with vertex marks `mark` and two fresh stamp values.
+  /// ball_a, ball_b: the balls of a and b; ring: the tets on the edge;
+  /// `mark`: one stamp per vertex slot; in_a, in_ring: two values no slot holds.
   bool link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a, const std::vector<index_t>& ball_b,
                       const std::vector<index_t>& ring, std::uint32_t* mark, std::uint32_t in_a,
                       std::uint32_t in_ring) const;
-  VertexClass classify_vertex(index_t v) const;
-  /// The same from v's ball (every live tet holding v); no scratch.
+  /// The class of vertex v from its ball (every live tet holding v).
   VertexClass classify_ball(index_t v, const std::vector<index_t>& ball) const;
-  std::uint32_t next_vertex_stamp() const;
-  /// A fresh mark value for tet_mark_ (16 bits: small and cache friendly;
-  /// cleared once every 65,535 uses).
-  std::uint16_t next_tet_mark() const;
+  /// A fresh mark for tet_marks_, grown to the tet slots.
+  std::uint16_t next_tet_mark() const { return tet_marks_.next(rec_.size()); }
   /// The ball of v breadth-first from vertex_tet_[v] into `out`. With
   /// `stop_at` >= 0 the walk ends at the first tet holding that vertex too
   /// and returns it (else -1): the edge search need not walk the rest.
@@ -392,11 +382,8 @@ class TetMesh {
   bool keep_inverted_ = false;  // set by half_edge_collapse_keeping_inverted
 
   // Scratch space reused by queries and operations (no allocation per op).
-  mutable std::vector<std::uint16_t> tet_mark_;
-  mutable std::uint16_t tet_mark_value_ = 0;
-  mutable std::vector<std::uint32_t> vertex_stamp_;
-  VertexStamps link_stamps_;  // check_collapse from collapse_edge
-  mutable std::uint32_t vertex_stamp_value_ = 0;
+  mutable WalkMarks tet_marks_;  // walks and replace_tets
+  VertexStamps link_stamps_;     // check_collapse from collapse_edge
   mutable std::vector<index_t> scratch_ring_, scratch_verts_, scratch_ball_, scratch_ball2_;
   std::vector<Tet> scratch_new_;
   std::vector<index_t> scratch_origin_;
