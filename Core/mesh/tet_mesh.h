@@ -1,6 +1,6 @@
 // TetMesh: the mutable tetrahedral mesh every FEMorph algorithm edits.
 //
-// Storage (flat arrays, about 60 bytes per tet in all):
+// Storage (flat arrays; a tet's vertices and neighbours share one record):
 //   points     #V positions
 //   tets       #T x 4 vertex ids, positively oriented:
 //              (p1 - p0) . ((p2 - p0) x (p3 - p0)) > 0   (VTK_TETRA's order)
@@ -14,17 +14,35 @@
 // Dead tets and vertices are tombstoned (first id = -1) and reused from free
 // lists; compact() renumbers for output.
 //
-// Provenance, so attribute data can follow the edits (DESIGN.md): every tet
-// carries the input cell it descends from; every vertex carries a stencil of
-// up to four input vertices and weights that interpolate point data onto it.
+// Provenance, so the filters can carry attribute data over the edits
+// (docs/ARCHITECTURE.md): every tet carries the input cell it descends from;
+// every vertex carries a stencil of up to four input vertices and weights
+// that interpolate point data onto it.
 //
-// Local operations (thesis 2.6.1.3, 2.6.5.3 Fig. 2.45, 2.6.5.4 Fig. 2.46) live
-// in their own files (split_edge.cpp, collapse_edge.cpp, flip_23.cpp ...).
-// Each validates before it commits: no tet with non-positive volume (exact
-// predicate), no duplicate edge or face, the link condition for collapses. A
-// refused operation leaves the mesh untouched; an accepted one lists the live
-// tets it created or changed in touched_tets(). Operations and queries take an
-// optional `hint`, a tet known to hold the edge, which spares a ball walk.
+// One file per step, named after it:
+//   build_tet_mesh.cpp     build(): checks, orientation, face matching
+//   tet_mesh_slots.cpp     slots and free lists, memory_bytes()
+//   topology_queries.cpp   vertex ball, neighbours, edge and face queries,
+//                          edge rings (walks through face adjacency)
+//   classify_vertices.cpp  vertex classes, curve edges
+//   move_vertex.cpp        vertex moves with the exact test
+//   replace_tets.cpp       cavity replacement behind the local operations
+//   sort_spatially.cpp     Morton renumbering
+//   compact.cpp            dense copy for output
+//   check_consistency.cpp  the invariants, for tests
+//   tet_mesh.cpp           to_string(OpStatus), non-inline element access
+//   tet_mesh_internal.*    helpers shared by these files
+// and the local operations (thesis 2.6.1.3, 2.6.5.3 Fig. 2.45, 2.6.5.4
+// Fig. 2.46) in split_edge.cpp, split_face.cpp, collapse_edge.cpp,
+// collapse_edge_by_rules.cpp, flip_23.cpp, flip_32.cpp, flip_44.cpp,
+// flip_edge_to_fan.cpp, flip_surface_edge.cpp.
+//
+// Each local operation validates before it commits: no tet with
+// non-positive volume (exact predicate), no duplicate edge or face, the link
+// condition for collapses. A refused operation leaves the mesh untouched; an
+// accepted one lists the live tets it created or changed in touched_tets().
+// Operations and queries take an optional `hint`, a tet known to hold the
+// edge, which spares a ball walk.
 //
 // Queries use scratch space inside the mesh: one TetMesh is not safe to use
 // from several threads at once, even through const methods.
@@ -147,7 +165,7 @@ class TetMesh {
   /// Region of boundary face f of tet t (-1 = none); -1 for interior faces.
   index_t face_region(index_t t, int f) const { return rec_[t].n[f] < 0 ? -2 - rec_[t].n[f] : kInvalidIndex; }
   void set_face_region(index_t t, int f, index_t region);
-  /// Local index (0..3) of vertex v in tet t, or -1.
+  /// Local index (0..3) of vertex v in tet t, or -1 (also for t < 0).
   int local_index(index_t t, index_t v) const;
   index_t tet_origin(index_t t) const { return tet_origin_[t]; }
   const VertexStencil& vertex_origin(index_t v) const { return vertex_origin_[v]; }
