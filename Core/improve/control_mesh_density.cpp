@@ -383,7 +383,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
       if (e.boundary && options.project && mesh.on_boundary(v)) {
         const Projection p = try_project(mesh, v, options, ball);
         if (p == Projection::Refused) {
-          mesh.half_edge_collapse(v, top.a);
+          mesh.half_edge_collapse(Keep{top.a}, Remove{v});
           if (stats) ++stats->refused_splits;
           continue;
         }
@@ -583,7 +583,8 @@ void evaluate_collapse(const TetMesh& mesh, const DensityGrid& grid, const Densi
   e.position = candidates[best];
   e.chosen = best;
   e.projected = e.projected && best == 0;
-  if (mesh.check_collapse(plan.keep, plan.remove, e.position, e.ball_keep, e.ball_remove, link_stamps) != OpStatus::Ok)
+  if (mesh.check_collapse(Keep{plan.keep}, Remove{plan.remove}, e.position, e.ball_keep, e.ball_remove,
+                          link_stamps) != OpStatus::Ok)
     return;
   e.result = CollapseEval::Accepted;
 }
@@ -681,8 +682,8 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
         evaluate_collapse(mesh, grid, options, true, marks[0], seen[0], link_stamps[0], e);
       // A fresh candidate was checked on the mesh as it is.
       if (e.result != CollapseEval::Accepted ||
-          mesh.collapse_checked_edge(e.plan.keep, e.plan.remove, e.position, e.ball_keep, e.ball_remove) !=
-              OpStatus::Ok) {
+          mesh.collapse_checked_edge(Keep{e.plan.keep}, Remove{e.plan.remove}, e.position, e.ball_keep,
+                                     e.ball_remove) != OpStatus::Ok) {
         if (stats) ++stats->refused_collapses;
         continue;
       }

@@ -91,6 +91,20 @@ struct VertexStencil {
   std::array<double, 4> weights{{0, 0, 0, 0}};
 };
 
+/// The two ends of an edge collapse by role: Keep survives, Remove is merged
+/// into it. The constructors are explicit, so each call names both roles and
+/// swapped arguments do not compile:
+///   mesh.collapse_edge(Keep{a}, Remove{b}, &p);
+///   mesh.half_edge_collapse(Keep{a}, Remove{b});  // b moves onto a
+struct Keep {
+  constexpr explicit Keep(index_t vertex) : id(vertex) {}
+  index_t id;
+};
+struct Remove {
+  constexpr explicit Remove(index_t vertex) : id(vertex) {}
+  index_t id;
+};
+
 /// Outcome of plan_collapse_by_rules().
 struct CollapsePlan {
   OpStatus status = OpStatus::Ok;
@@ -248,11 +262,11 @@ class TetMesh {
   /// collapse of Fig. 2.39). The tets around the edge vanish. Checks the link
   /// condition and that every remaining tet of both balls stays positive.
   /// Does not apply the rules of Fig. 2.37: see collapse_edge_by_rules().
-  OpStatus collapse_edge(index_t keep, index_t remove, const Vec3* position);
+  OpStatus collapse_edge(Keep keep, Remove remove, const Vec3* position);
   /// The same with both balls given as vertex_ball() lists them on the mesh
   /// as it is (a caller that evaluated the collapse has them: two walks
   /// spared).
-  OpStatus collapse_edge(index_t keep, index_t remove, const Vec3* position, const std::vector<index_t>& ball_keep,
+  OpStatus collapse_edge(Keep keep, Remove remove, const Vec3* position, const std::vector<index_t>& ball_keep,
                          const std::vector<index_t>& ball_remove);
   /// Per-caller vertex stamps for check_collapse from several threads.
   using VertexStamps = Stamps<std::uint32_t>;
@@ -260,22 +274,22 @@ class TetMesh {
   /// without changing the mesh: Ok when it would collapse. Read only, with
   /// the caller's stamps: safe from several threads at once while the mesh
   /// does not change.
-  OpStatus check_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_keep,
+  OpStatus check_collapse(Keep keep, Remove remove, const Vec3& p, const std::vector<index_t>& ball_keep,
                           const std::vector<index_t>& ball_remove, VertexStamps& stamps) const;
   /// collapse_edge(keep, remove, &p, ball_keep, ball_remove) for a caller
   /// whose check_collapse with the same arguments returned Ok on the mesh as
   /// it still is: the checks are not repeated.
-  OpStatus collapse_checked_edge(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_keep,
+  OpStatus collapse_checked_edge(Keep keep, Remove remove, const Vec3& p, const std::vector<index_t>& ball_keep,
                                  const std::vector<index_t>& ball_remove);
   /// Half-edge collapse (Fig. 2.39): `remove` moves onto `keep`.
-  OpStatus half_edge_collapse(index_t remove, index_t keep) { return collapse_edge(keep, remove, nullptr); }
+  OpStatus half_edge_collapse(Keep keep, Remove remove) { return collapse_edge(keep, remove, nullptr); }
   /// Half-edge collapse for the inverted element removal (thesis 2.6.2,
   /// Fig. 2.39) on a mesh built with BuildOptions::allow_inverted: as
   /// half_edge_collapse(), except that a tet of remove's ball that is inverted
   /// (negative volume) before may be non-positive after. Every other tet must
   /// stay positive, so the number of inverted tets drops by those on the edge.
   /// InvalidArgument when the mesh does not allow inverted tets.
-  OpStatus half_edge_collapse_keeping_inverted(index_t remove, index_t keep);
+  OpStatus half_edge_collapse_keeping_inverted(Keep keep, Remove remove);
   /// The collapse of edge (a, b) that thesis Fig. 2.37 allows: refuses the
   /// forbidden edges (A)-(C) with ForbiddenByRule; otherwise names the vertex
   /// to keep and the position by rules (D)-(G). Improve projects `position`
@@ -352,14 +366,15 @@ class TetMesh {
   /// Whether an open ring (from edge_ring_with_vertices) lies on a curve:
   /// its two boundary faces have different regions.
   bool open_ring_on_curve(const std::vector<index_t>& ring, const std::vector<index_t>& opposite) const;
-  OpStatus collapse_edge_with(index_t keep, index_t remove, const Vec3* position,
+  /// collapse_edge() with either ball given (non-null) or walked.
+  OpStatus collapse_edge_with(Keep keep, Remove remove, const Vec3* position,
                               const std::vector<index_t>* given_keep, const std::vector<index_t>* given_remove);
   /// The tets of ball_remove on the edge into `ring`; false when
   /// (keep, remove) is no edge.
-  bool collapse_cavity(index_t keep, const std::vector<index_t>& ball_remove, std::vector<index_t>& ring);
+  bool collapse_cavity(Keep keep, const std::vector<index_t>& ball_remove, std::vector<index_t>& ring);
   /// The change of a collapse whose checks passed; `ring`: the tets on the
   /// edge (collapse_cavity), `unchanged`: the tets of ball_keep off it.
-  void commit_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_remove,
+  void commit_collapse(Keep keep, Remove remove, const Vec3& p, const std::vector<index_t>& ball_remove,
                        const std::vector<index_t>& ring, const std::vector<index_t>& unchanged);
   /// Link condition of thesis 2.6.1.3 / Dey et al. for collapsing (a, b):
   /// Lk(a) n Lk(b) = Lk(ab), with a vertex at infinity coning the boundary.
