@@ -97,18 +97,17 @@ double stretch_with(const TetMesh& mesh, index_t t, index_t from, index_t to, in
 bool below_floor(double new_min, double old_min, double floor) { return new_min < floor && new_min < old_min; }
 
 /// The vertices of the tets of two balls except a and b, each once (in the
-/// order met; `seen` holds one stamp per vertex slot, `stamp` is new per
-/// call): after the collapse of a and b these are the neighbours of the
-/// surviving vertex.
+/// order met; `seen`: the caller's stamps per vertex slot): after the
+/// collapse of a and b these are the neighbours of the surviving vertex.
 void ball_vertices(const TetMesh& mesh, const std::vector<index_t>& ball_a, const std::vector<index_t>& ball_b,
-                   index_t a, index_t b, std::vector<std::uint32_t>& seen, std::uint32_t stamp,
-                   std::vector<index_t>& out) {
+                   index_t a, index_t b, TetMesh::VertexStamps& seen, std::vector<index_t>& out) {
   out.clear();
+  const std::uint32_t stamp = seen.next(static_cast<std::size_t>(mesh.vertex_slots()));
   for (const std::vector<index_t>* ball : {&ball_a, &ball_b})
     for (const index_t t : *ball)
       for (const index_t w : mesh.tet(t))
-        if (w != a && w != b && seen[w] != stamp) {
-          seen[w] = stamp;
+        if (w != a && w != b && seen.stamp[w] != stamp) {
+          seen.stamp[w] = stamp;
           out.push_back(w);
         }
 }
@@ -384,7 +383,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
       if (e.boundary && options.project && mesh.on_boundary(v)) {
         const Projection p = try_project(mesh, v, options, ball);
         if (p == Projection::Refused) {
-          mesh.half_edge_collapse(v, top.a);
+          mesh.half_edge_collapse(Keep{top.a}, Remove{v});
           if (stats) ++stats->refused_splits;
           continue;
         }
@@ -483,8 +482,8 @@ struct CollapseEval {
 /// vertex to be projected (the callback may walk the mesh's own marks) is
 /// left as NeedsProjection unless `may_project`.
 void evaluate_collapse(const TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
-                       bool may_project, TetMesh::WalkMarks& marks, std::vector<std::uint32_t>& seen,
-                       std::uint32_t& stamp, TetMesh::VertexStamps& link_stamps, CollapseEval& e) {
+                       bool may_project, TetMesh::WalkMarks& marks, TetMesh::VertexStamps& seen,
+                       TetMesh::VertexStamps& link_stamps, CollapseEval& e) {
   const index_t a = e.entry.a, b = e.entry.b;
   e.result = CollapseEval::NotAnEdge;
   e.neighbours.clear();
@@ -508,7 +507,7 @@ void evaluate_collapse(const TetMesh& mesh, const DensityGrid& grid, const Densi
     e.ball_remove.swap(e.ball_a);
     mesh.vertex_ball(plan.keep, e.ball_keep, marks);
   }
-  ball_vertices(mesh, e.ball_keep, e.ball_remove, plan.keep, plan.remove, seen, ++stamp, e.neighbours);
+  ball_vertices(mesh, e.ball_keep, e.ball_remove, plan.keep, plan.remove, seen, e.neighbours);
   e.projected = false;
   if (options.project && mesh.on_boundary(plan.keep) && plan.position != mesh.point(plan.keep)) {
     if (!may_project) {  // after the balls: the caller checks the same neighbourhood
@@ -584,7 +583,8 @@ void evaluate_collapse(const TetMesh& mesh, const DensityGrid& grid, const Densi
   e.position = candidates[best];
   e.chosen = best;
   e.projected = e.projected && best == 0;
-  if (mesh.check_collapse(plan.keep, plan.remove, e.position, e.ball_keep, e.ball_remove, link_stamps) != OpStatus::Ok)
+  if (mesh.check_collapse(Keep{plan.keep}, Remove{plan.remove}, e.position, e.ball_keep, e.ball_remove,
+                          link_stamps) != OpStatus::Ok)
     return;
   e.result = CollapseEval::Accepted;
 }
@@ -621,11 +621,8 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
   std::vector<CollapseEval> batch(kBatch);
   const int threads = std::max(1, omp_get_max_threads());
   std::vector<TetMesh::WalkMarks> marks(static_cast<std::size_t>(threads));
-  // No vertex is created here, so the stamps' size is fixed.
-  std::vector<std::vector<std::uint32_t>> seen(static_cast<std::size_t>(threads));
-  std::vector<std::uint32_t> stamps(static_cast<std::size_t>(threads), 0);
+  std::vector<TetMesh::VertexStamps> seen(static_cast<std::size_t>(threads));
   std::vector<TetMesh::VertexStamps> link_stamps(static_cast<std::size_t>(threads));
-  for (auto& s : seen) s.assign(static_cast<std::size_t>(mesh.vertex_slots()), 0);
   std::vector<std::uint32_t> changed(static_cast<std::size_t>(mesh.vertex_slots()), 0);
   std::uint32_t batch_id = 0;
   HeapEdge previous{-1, kInvalidIndex, kInvalidIndex};
@@ -661,8 +658,8 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
     for (long i = 0; i < count; ++i) {
       const int id = omp_get_thread_num();
       evaluate_collapse(mesh, grid, options, options.project_in_parallel, marks[static_cast<std::size_t>(id)],
-                        seen[static_cast<std::size_t>(id)], stamps[static_cast<std::size_t>(id)],
-                        link_stamps[static_cast<std::size_t>(id)], batch[static_cast<std::size_t>(i)]);
+                        seen[static_cast<std::size_t>(id)], link_stamps[static_cast<std::size_t>(id)],
+                        batch[static_cast<std::size_t>(i)]);
     }
     // Step 6 in heap order.
     ++batch_id;
@@ -682,11 +679,11 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
       }
       if (e.result == CollapseEval::NotAnEdge) continue;
       if (e.result == CollapseEval::NeedsProjection)
-        evaluate_collapse(mesh, grid, options, true, marks[0], seen[0], stamps[0], link_stamps[0], e);
+        evaluate_collapse(mesh, grid, options, true, marks[0], seen[0], link_stamps[0], e);
       // A fresh candidate was checked on the mesh as it is.
       if (e.result != CollapseEval::Accepted ||
-          mesh.collapse_checked_edge(e.plan.keep, e.plan.remove, e.position, e.ball_keep, e.ball_remove) !=
-              OpStatus::Ok) {
+          mesh.collapse_checked_edge(Keep{e.plan.keep}, Remove{e.plan.remove}, e.position, e.ball_keep,
+                                     e.ball_remove) != OpStatus::Ok) {
         if (stats) ++stats->refused_collapses;
         continue;
       }

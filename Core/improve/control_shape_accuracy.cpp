@@ -217,7 +217,7 @@ AccuracyControlStats control_shape_accuracy(TetMesh& mesh, const BoundaryGeometr
     }
     if (!ok) {
       for (auto it = moved.rbegin(); it != moved.rend(); ++it) mesh.set_point(it->first, it->second);
-      mesh.half_edge_collapse(v, e.a);  // restores the tets of the edge
+      mesh.half_edge_collapse(Keep{e.a}, Remove{v});  // restores the tets of the edge
       ++stats.refused;
       continue;
     }

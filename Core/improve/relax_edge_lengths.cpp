@@ -17,13 +17,7 @@ bool spring_rest(const TetMesh& mesh, const std::vector<index_t>& ball, index_t 
   // order): stamped per vertex slot, not searched for in the list (the
   // search took 40% of the relaxation at 0.9M tets).
   thread_local TetMesh::VertexStamps seen;
-  if (seen.stamp.size() < static_cast<std::size_t>(mesh.vertex_slots()))
-    seen.stamp.resize(static_cast<std::size_t>(mesh.vertex_slots()), 0);
-  if (++seen.value == 0) {
-    std::fill(seen.stamp.begin(), seen.stamp.end(), 0);
-    seen.value = 1;
-  }
-  const std::uint32_t stamp = seen.value;
+  const std::uint32_t stamp = seen.next(static_cast<std::size_t>(mesh.vertex_slots()));
   seen.stamp[static_cast<std::size_t>(v)] = stamp;
   neighbours.clear();
   for (const index_t t : ball)

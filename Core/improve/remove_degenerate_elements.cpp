@@ -197,7 +197,7 @@ class DegenerateRemover {
     const VertexClass c = m_.vertex_class(plan.keep);
     if (opt_.project && c != VertexClass::Inner && c != VertexClass::Corner) pos = opt_.project(plan.keep, pos);
     if (!(collapse_min_stretch(m_, plan.keep, plan.remove, pos) > worse_than_)) return false;
-    if (m_.collapse_edge(plan.keep, plan.remove, &pos) != OpStatus::Ok) return false;
+    if (m_.collapse_edge(Keep{plan.keep}, Remove{plan.remove}, &pos) != OpStatus::Ok) return false;
     affected_.insert(affected_.end(), m_.touched_tets().begin(), m_.touched_tets().end());
     mark(plan.remove);  // the others are in the tets around plan.keep
     return true;
@@ -205,7 +205,7 @@ class DegenerateRemover {
 
   /// Takes back a split: the half-edge collapse of the new vertex onto an
   /// end of its edge restores the tets (the original points never moved).
-  void undo_split(index_t mid, index_t end) { m_.half_edge_collapse(mid, end); }
+  void undo_split(index_t mid, index_t end) { m_.half_edge_collapse(Keep{end}, Remove{mid}); }
 
   double clamp_fraction(double s) const {
     const double f = opt_.min_split_fraction;

@@ -76,13 +76,13 @@ InvertedRemovalStats remove_inverted_elements(TetMesh& mesh, const InvertedRemov
       });
       bool done = false;
       for (const Candidate& c : candidates)
-        if (mesh.half_edge_collapse(c.remove, c.keep) == OpStatus::Ok) {
+        if (mesh.half_edge_collapse(Keep{c.keep}, Remove{c.remove}) == OpStatus::Ok) {
           done = true;
           break;
         }
       if (!done && tolerant)
         for (const Candidate& c : candidates)
-          if (mesh.half_edge_collapse_keeping_inverted(c.remove, c.keep) == OpStatus::Ok) {
+          if (mesh.half_edge_collapse_keeping_inverted(Keep{c.keep}, Remove{c.remove}) == OpStatus::Ok) {
             done = true;
             break;
           }

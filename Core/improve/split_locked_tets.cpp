@@ -187,7 +187,7 @@ LockedTetStats split_locked_tets(TetMesh& mesh, const LockedTetOptions& options)
       if (mesh.move_vertex_in_ball(v, e.x, ball) == OpStatus::Ok || e.at_midpoint > e.before)
         ++stats.splits;
       else
-        mesh.half_edge_collapse(v, e.a);  // undo: the tets around (a, b) come back
+        mesh.half_edge_collapse(Keep{e.a}, Remove{v});  // undo: the tets around (a, b) come back
     }
   }
   return stats;

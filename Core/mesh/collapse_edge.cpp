@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <limits>
 #include <utility>
 
 namespace femorph {
@@ -22,13 +21,6 @@ inline bool contains(const std::vector<T>& v, const T& x) {
 }
 
 }  // namespace
-
-bool TetMesh::link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
-                             const std::vector<index_t>& ball_b, const std::vector<index_t>& ring) const {
-  const std::uint32_t in_a = next_vertex_stamp();
-  const std::uint32_t in_ring = next_vertex_stamp();
-  return link_condition(a, b, ball_a, ball_b, ring, vertex_stamp_.data(), in_a, in_ring);
-}
 
 bool TetMesh::link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
                              const std::vector<index_t>& ball_b, const std::vector<index_t>& ring, std::uint32_t* mark,
@@ -132,40 +124,43 @@ bool TetMesh::link_condition(index_t a, index_t b, const std::vector<index_t>& b
   return true;
 }
 
-OpStatus TetMesh::collapse_edge(index_t keep, index_t remove, const Vec3* position) {
+OpStatus TetMesh::collapse_edge(Keep keep, Remove remove, const Vec3* position) {
   return collapse_edge_with(keep, remove, position, nullptr, nullptr);
 }
 
-OpStatus TetMesh::collapse_edge(index_t keep, index_t remove, const Vec3* position,
+OpStatus TetMesh::collapse_edge(Keep keep, Remove remove, const Vec3* position,
                                 const std::vector<index_t>& ball_keep, const std::vector<index_t>& ball_remove) {
   return collapse_edge_with(keep, remove, position, &ball_keep, &ball_remove);
 }
 
-bool TetMesh::collapse_cavity(index_t keep, const std::vector<index_t>& ball_remove, std::vector<index_t>& ring) {
+bool TetMesh::collapse_cavity(Keep keep, const std::vector<index_t>& ball_remove, std::vector<index_t>& ring) {
   // Tets of ball(remove) on the edge vanish; the others stay, with remove
   // renamed keep.
   ring.clear();
   for (index_t t : ball_remove)
-    if (local_index(t, keep) >= 0) ring.push_back(t);
+    if (local_index(t, keep.id) >= 0) ring.push_back(t);
   return !ring.empty();
 }
 
-OpStatus TetMesh::collapse_edge_with(index_t keep, index_t remove, const Vec3* position,
+OpStatus TetMesh::collapse_edge_with(Keep keep_vertex, Remove remove_vertex, const Vec3* position,
                                      const std::vector<index_t>* given_keep,
                                      const std::vector<index_t>* given_remove) {
+  const index_t keep = keep_vertex.id, remove = remove_vertex.id;
   if (!vertex_alive(keep) || !vertex_alive(remove) || keep == remove) return OpStatus::InvalidArgument;
   const Vec3 p = position ? *position : points_[keep];
   if (!given_remove) vertex_ball(remove, scratch_ball2_);
   if (!given_keep) vertex_ball(keep, scratch_ball_);
   const std::vector<index_t>& ball_remove = given_remove ? *given_remove : scratch_ball2_;
   const std::vector<index_t>& ball_keep = given_keep ? *given_keep : scratch_ball_;
-  const OpStatus checked = check_collapse(keep, remove, p, ball_keep, ball_remove, link_stamps_);
+  const OpStatus checked = check_collapse(keep_vertex, remove_vertex, p, ball_keep, ball_remove, link_stamps_);
   if (checked != OpStatus::Ok) return checked;
-  return collapse_checked_edge(keep, remove, p, ball_keep, ball_remove);
+  return collapse_checked_edge(keep_vertex, remove_vertex, p, ball_keep, ball_remove);
 }
 
-OpStatus TetMesh::check_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_keep,
-                                 const std::vector<index_t>& ball_remove, VertexStamps& stamps) const {
+OpStatus TetMesh::check_collapse(Keep keep_vertex, Remove remove_vertex, const Vec3& p,
+                                 const std::vector<index_t>& ball_keep, const std::vector<index_t>& ball_remove,
+                                 VertexStamps& stamps) const {
+  const index_t keep = keep_vertex.id, remove = remove_vertex.id;
   if (!vertex_alive(keep) || !vertex_alive(remove) || keep == remove || !p.allFinite())
     return OpStatus::InvalidArgument;
   // Not an edge; a tet of remove's ball that stays (remove renamed keep)
@@ -187,31 +182,29 @@ OpStatus TetMesh::check_collapse(index_t keep, index_t remove, const Vec3& p, co
   if (p != points_[keep])
     for (index_t t : ball_keep)
       if (local_index(t, remove) < 0 && !positive_after(rec_[t].v)) return OpStatus::Inverted;
-  if (stamps.stamp.size() < points_.size()) stamps.stamp.resize(points_.size(), 0);
-  if (stamps.value >= std::numeric_limits<std::uint32_t>::max() - 2) {
-    std::fill(stamps.stamp.begin(), stamps.stamp.end(), 0);
-    stamps.value = 0;
-  }
-  const std::uint32_t in_a = ++stamps.value, in_ring = ++stamps.value;
+  const std::uint32_t in_a = stamps.next(points_.size());
+  const std::uint32_t in_ring = stamps.next(points_.size());
   if (!link_condition(keep, remove, ball_keep, ball_remove, ring, stamps.stamp.data(), in_a, in_ring))
     return OpStatus::LinkCondition;
   return OpStatus::Ok;
 }
 
-OpStatus TetMesh::collapse_checked_edge(index_t keep, index_t remove, const Vec3& p,
+OpStatus TetMesh::collapse_checked_edge(Keep keep, Remove remove, const Vec3& p,
                                         const std::vector<index_t>& ball_keep,
                                         const std::vector<index_t>& ball_remove) {
   thread_local std::vector<index_t> ring, unchanged;
   if (!collapse_cavity(keep, ball_remove, ring)) return OpStatus::InvalidArgument;
   unchanged.clear();
   for (index_t t : ball_keep)
-    if (local_index(t, remove) < 0) unchanged.push_back(t);
+    if (local_index(t, remove.id) < 0) unchanged.push_back(t);
   commit_collapse(keep, remove, p, ball_remove, ring, unchanged);
   return OpStatus::Ok;
 }
 
-void TetMesh::commit_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_remove,
-                              const std::vector<index_t>& ring, const std::vector<index_t>& unchanged) {
+void TetMesh::commit_collapse(Keep keep_vertex, Remove remove_vertex, const Vec3& p,
+                              const std::vector<index_t>& ball_remove, const std::vector<index_t>& ring,
+                              const std::vector<index_t>& unchanged) {
+  const index_t keep = keep_vertex.id, remove = remove_vertex.id;
   // Point data of the merged vertex: linear along the edge at the
   // projection of p (unchanged when p is keep's position).
   if (p != points_[keep]) {
@@ -276,7 +269,7 @@ void TetMesh::commit_collapse(index_t keep, index_t remove, const Vec3& p, const
   touched_.insert(touched_.end(), unchanged.begin(), unchanged.end());
 }
 
-OpStatus TetMesh::half_edge_collapse_keeping_inverted(index_t remove, index_t keep) {
+OpStatus TetMesh::half_edge_collapse_keeping_inverted(Keep keep, Remove remove) {
   if (!allow_inverted_) return OpStatus::InvalidArgument;
   keep_inverted_ = true;
   const OpStatus status = collapse_edge(keep, remove, nullptr);

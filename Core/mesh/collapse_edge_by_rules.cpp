@@ -50,7 +50,7 @@ CollapsePlan TetMesh::plan_collapse_by_rules(index_t a, index_t b, index_t hint)
 OpStatus TetMesh::collapse_edge_by_rules(index_t a, index_t b, index_t* kept, index_t hint) {
   const CollapsePlan plan = plan_collapse_by_rules(a, b, hint);
   if (plan.status != OpStatus::Ok) return plan.status;
-  const OpStatus status = collapse_edge(plan.keep, plan.remove, &plan.position);
+  const OpStatus status = collapse_edge(Keep{plan.keep}, Remove{plan.remove}, &plan.position);
   if (status == OpStatus::Ok && kept) *kept = plan.keep;
   return status;
 }

@@ -21,11 +21,11 @@ OpStatus TetMesh::flip_surface_edge(index_t a, index_t b, index_t hint) {
   index_t m = kInvalidIndex;
   const OpStatus split = split_edge(a, b, nullptr, &m, ring.front());
   if (split != OpStatus::Ok) return split;
-  const OpStatus collapse = collapse_edge(apex, m, nullptr);
+  const OpStatus collapse = collapse_edge(Keep{apex}, Remove{m}, nullptr);
   if (collapse == OpStatus::Ok) return OpStatus::Ok;
   // Undo the split: collapsing the new vertex back onto a restores the
   // original tets (same vertices, same regions; new slots).
-  const OpStatus undo = collapse_edge(a, m, nullptr);
+  const OpStatus undo = collapse_edge(Keep{a}, Remove{m}, nullptr);
   (void)undo;
   touched_.clear();
   return collapse;

@@ -1,6 +1,6 @@
 // TetMesh: the mutable tetrahedral mesh every FEMorph algorithm edits.
 //
-// Storage (flat arrays, about 60 bytes per tet in all):
+// Storage (flat arrays; a tet's vertices and neighbours share one record):
 //   points     #V positions
 //   tets       #T x 4 vertex ids, positively oriented:
 //              (p1 - p0) . ((p2 - p0) x (p3 - p0)) > 0   (VTK_TETRA's order)
@@ -14,22 +14,41 @@
 // Dead tets and vertices are tombstoned (first id = -1) and reused from free
 // lists; compact() renumbers for output.
 //
-// Provenance, so attribute data can follow the edits (DESIGN.md): every tet
-// carries the input cell it descends from; every vertex carries a stencil of
-// up to four input vertices and weights that interpolate point data onto it.
+// Provenance, so the filters can carry attribute data over the edits
+// (docs/ARCHITECTURE.md): every tet carries the input cell it descends from;
+// every vertex carries a stencil of up to four input vertices and weights
+// that interpolate point data onto it.
 //
-// Local operations (thesis 2.6.1.3, 2.6.5.3 Fig. 2.45, 2.6.5.4 Fig. 2.46) live
-// in their own files (split_edge.cpp, collapse_edge.cpp, flip_23.cpp ...).
-// Each validates before it commits: no tet with non-positive volume (exact
-// predicate), no duplicate edge or face, the link condition for collapses. A
-// refused operation leaves the mesh untouched; an accepted one lists the live
-// tets it created or changed in touched_tets(). Operations and queries take an
-// optional `hint`, a tet known to hold the edge, which spares a ball walk.
+// One file per step, named after it:
+//   build_tet_mesh.cpp     build(): checks, orientation, face matching
+//   tet_mesh_slots.cpp     slots and free lists, memory_bytes()
+//   topology_queries.cpp   vertex ball, neighbours, edge and face queries,
+//                          edge rings (walks through face adjacency)
+//   classify_vertices.cpp  vertex classes, curve edges
+//   move_vertex.cpp        vertex moves with the exact test
+//   replace_tets.cpp       cavity replacement behind the local operations
+//   sort_spatially.cpp     Morton renumbering
+//   compact.cpp            dense copy for output
+//   check_consistency.cpp  the invariants, for tests
+//   tet_mesh.cpp           to_string(OpStatus), non-inline element access
+//   tet_mesh_internal.*    helpers shared by these files
+// and the local operations (thesis 2.6.1.3, 2.6.5.3 Fig. 2.45, 2.6.5.4
+// Fig. 2.46) in split_edge.cpp, split_face.cpp, collapse_edge.cpp,
+// collapse_edge_by_rules.cpp, flip_23.cpp, flip_32.cpp, flip_44.cpp,
+// flip_edge_to_fan.cpp, flip_surface_edge.cpp.
+//
+// Each local operation validates before it commits: no tet with
+// non-positive volume (exact predicate), no duplicate edge or face, the link
+// condition for collapses. A refused operation leaves the mesh untouched; an
+// accepted one lists the live tets it created or changed in touched_tets().
+// Operations and queries take an optional `hint`, a tet known to hold the
+// edge, which spares a ball walk.
 //
 // Queries use scratch space inside the mesh: one TetMesh is not safe to use
 // from several threads at once, even through const methods.
 #pragma once
 
+#include "common/stamps.h"
 #include "common/types.h"
 
 #include <cstdint>
@@ -70,6 +89,20 @@ const char* to_string(OpStatus status);
 struct VertexStencil {
   std::array<index_t, 4> ids{{kInvalidIndex, kInvalidIndex, kInvalidIndex, kInvalidIndex}};
   std::array<double, 4> weights{{0, 0, 0, 0}};
+};
+
+/// The two ends of an edge collapse by role: Keep survives, Remove is merged
+/// into it. The constructors are explicit, so each call names both roles and
+/// swapped arguments do not compile:
+///   mesh.collapse_edge(Keep{a}, Remove{b}, &p);
+///   mesh.half_edge_collapse(Keep{a}, Remove{b});  // b moves onto a
+struct Keep {
+  constexpr explicit Keep(index_t vertex) : id(vertex) {}
+  index_t id;
+};
+struct Remove {
+  constexpr explicit Remove(index_t vertex) : id(vertex) {}
+  index_t id;
 };
 
 /// Outcome of plan_collapse_by_rules().
@@ -146,7 +179,7 @@ class TetMesh {
   /// Region of boundary face f of tet t (-1 = none); -1 for interior faces.
   index_t face_region(index_t t, int f) const { return rec_[t].n[f] < 0 ? -2 - rec_[t].n[f] : kInvalidIndex; }
   void set_face_region(index_t t, int f, index_t region);
-  /// Local index (0..3) of vertex v in tet t, or -1.
+  /// Local index (0..3) of vertex v in tet t, or -1 (also for t < 0).
   int local_index(index_t t, index_t v) const;
   index_t tet_origin(index_t t) const { return tet_origin_[t]; }
   const VertexStencil& vertex_origin(index_t v) const { return vertex_origin_[v]; }
@@ -170,10 +203,7 @@ class TetMesh {
   /// The same walk (same order) with the caller's visit marks: safe from
   /// several threads at once, each with its own marks, while the mesh does
   /// not change. vertex_ball(v, tets) uses the mesh's own marks.
-  struct WalkMarks {
-    std::vector<std::uint16_t> mark;
-    std::uint16_t value = 0;
-  };
+  using WalkMarks = Stamps<std::uint16_t>;
   void vertex_ball(index_t v, std::vector<index_t>& tets, WalkMarks& marks) const;
   /// Vertices adjacent to v by an edge.
   void vertex_neighbors(index_t v, std::vector<index_t>& vertices) const;
@@ -232,37 +262,34 @@ class TetMesh {
   /// collapse of Fig. 2.39). The tets around the edge vanish. Checks the link
   /// condition and that every remaining tet of both balls stays positive.
   /// Does not apply the rules of Fig. 2.37: see collapse_edge_by_rules().
-  OpStatus collapse_edge(index_t keep, index_t remove, const Vec3* position);
+  OpStatus collapse_edge(Keep keep, Remove remove, const Vec3* position);
   /// The same with both balls given as vertex_ball() lists them on the mesh
   /// as it is (a caller that evaluated the collapse has them: two walks
   /// spared).
-  OpStatus collapse_edge(index_t keep, index_t remove, const Vec3* position, const std::vector<index_t>& ball_keep,
+  OpStatus collapse_edge(Keep keep, Remove remove, const Vec3* position, const std::vector<index_t>& ball_keep,
                          const std::vector<index_t>& ball_remove);
   /// Per-caller vertex stamps for check_collapse from several threads.
-  struct VertexStamps {
-    std::vector<std::uint32_t> stamp;
-    std::uint32_t value = 0;
-  };
+  using VertexStamps = Stamps<std::uint32_t>;
   /// The checks of collapse_edge(keep, remove, &p, ball_keep, ball_remove)
   /// without changing the mesh: Ok when it would collapse. Read only, with
   /// the caller's stamps: safe from several threads at once while the mesh
   /// does not change.
-  OpStatus check_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_keep,
+  OpStatus check_collapse(Keep keep, Remove remove, const Vec3& p, const std::vector<index_t>& ball_keep,
                           const std::vector<index_t>& ball_remove, VertexStamps& stamps) const;
   /// collapse_edge(keep, remove, &p, ball_keep, ball_remove) for a caller
   /// whose check_collapse with the same arguments returned Ok on the mesh as
   /// it still is: the checks are not repeated.
-  OpStatus collapse_checked_edge(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_keep,
+  OpStatus collapse_checked_edge(Keep keep, Remove remove, const Vec3& p, const std::vector<index_t>& ball_keep,
                                  const std::vector<index_t>& ball_remove);
   /// Half-edge collapse (Fig. 2.39): `remove` moves onto `keep`.
-  OpStatus half_edge_collapse(index_t remove, index_t keep) { return collapse_edge(keep, remove, nullptr); }
+  OpStatus half_edge_collapse(Keep keep, Remove remove) { return collapse_edge(keep, remove, nullptr); }
   /// Half-edge collapse for the inverted element removal (thesis 2.6.2,
   /// Fig. 2.39) on a mesh built with BuildOptions::allow_inverted: as
   /// half_edge_collapse(), except that a tet of remove's ball that is inverted
   /// (negative volume) before may be non-positive after. Every other tet must
   /// stay positive, so the number of inverted tets drops by those on the edge.
   /// InvalidArgument when the mesh does not allow inverted tets.
-  OpStatus half_edge_collapse_keeping_inverted(index_t remove, index_t keep);
+  OpStatus half_edge_collapse_keeping_inverted(Keep keep, Remove remove);
   /// The collapse of edge (a, b) that thesis Fig. 2.37 allows: refuses the
   /// forbidden edges (A)-(C) with ForbiddenByRule; otherwise names the vertex
   /// to keep and the position by rules (D)-(G). Improve projects `position`
@@ -339,31 +366,27 @@ class TetMesh {
   /// Whether an open ring (from edge_ring_with_vertices) lies on a curve:
   /// its two boundary faces have different regions.
   bool open_ring_on_curve(const std::vector<index_t>& ring, const std::vector<index_t>& opposite) const;
-  OpStatus collapse_edge_with(index_t keep, index_t remove, const Vec3* position,
+  /// collapse_edge() with either ball given (non-null) or walked.
+  OpStatus collapse_edge_with(Keep keep, Remove remove, const Vec3* position,
                               const std::vector<index_t>* given_keep, const std::vector<index_t>* given_remove);
   /// The tets of ball_remove on the edge into `ring`; false when
   /// (keep, remove) is no edge.
-  bool collapse_cavity(index_t keep, const std::vector<index_t>& ball_remove, std::vector<index_t>& ring);
+  bool collapse_cavity(Keep keep, const std::vector<index_t>& ball_remove, std::vector<index_t>& ring);
   /// The change of a collapse whose checks passed; `ring`: the tets on the
   /// edge (collapse_cavity), `unchanged`: the tets of ball_keep off it.
-  void commit_collapse(index_t keep, index_t remove, const Vec3& p, const std::vector<index_t>& ball_remove,
+  void commit_collapse(Keep keep, Remove remove, const Vec3& p, const std::vector<index_t>& ball_remove,
                        const std::vector<index_t>& ring, const std::vector<index_t>& unchanged);
   /// Link condition of thesis 2.6.1.3 / Dey et al. for collapsing (a, b):
   /// Lk(a) n Lk(b) = Lk(ab), with a vertex at infinity coning the boundary.
-  /// ball_a, ball_b: the balls of a and b; ring: the tets on the edge.
-  bool link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a,
-                      const std::vector<index_t>& ball_b, const std::vector<index_t>& ring) const;
-  /// The same with vertex marks `mark` and two fresh stamp values.
+  /// ball_a, ball_b: the balls of a and b; ring: the tets on the edge;
+  /// `mark`: one stamp per vertex slot; in_a, in_ring: two values no slot holds.
   bool link_condition(index_t a, index_t b, const std::vector<index_t>& ball_a, const std::vector<index_t>& ball_b,
                       const std::vector<index_t>& ring, std::uint32_t* mark, std::uint32_t in_a,
                       std::uint32_t in_ring) const;
-  VertexClass classify_vertex(index_t v) const;
-  /// The same from v's ball (every live tet holding v); no scratch.
+  /// The class of vertex v from its ball (every live tet holding v).
   VertexClass classify_ball(index_t v, const std::vector<index_t>& ball) const;
-  std::uint32_t next_vertex_stamp() const;
-  /// A fresh mark value for tet_mark_ (16 bits: small and cache friendly;
-  /// cleared once every 65,535 uses).
-  std::uint16_t next_tet_mark() const;
+  /// A fresh mark for tet_marks_, grown to the tet slots.
+  std::uint16_t next_tet_mark() const { return tet_marks_.next(rec_.size()); }
   /// The ball of v breadth-first from vertex_tet_[v] into `out`. With
   /// `stop_at` >= 0 the walk ends at the first tet holding that vertex too
   /// and returns it (else -1): the edge search need not walk the rest.
@@ -392,11 +415,8 @@ class TetMesh {
   bool keep_inverted_ = false;  // set by half_edge_collapse_keeping_inverted
 
   // Scratch space reused by queries and operations (no allocation per op).
-  mutable std::vector<std::uint16_t> tet_mark_;
-  mutable std::uint16_t tet_mark_value_ = 0;
-  mutable std::vector<std::uint32_t> vertex_stamp_;
-  VertexStamps link_stamps_;  // check_collapse from collapse_edge
-  mutable std::uint32_t vertex_stamp_value_ = 0;
+  mutable WalkMarks tet_marks_;  // walks and replace_tets
+  VertexStamps link_stamps_;     // check_collapse from collapse_edge
   mutable std::vector<index_t> scratch_ring_, scratch_verts_, scratch_ball_, scratch_ball2_;
   std::vector<Tet> scratch_new_;
   std::vector<index_t> scratch_origin_;

@@ -9,21 +9,17 @@ namespace femorph {
 namespace segment {
 
 std::vector<index_t> State::vertices_of(const std::vector<index_t>& triangles) const {
-  if (vertex_mark_.size() != surface.points.size()) {
-    vertex_mark_.assign(surface.points.size(), 0);
+  if (vertex_slot_.size() != surface.points.size()) {
+    vertex_marks_.reset(surface.points.size());
     vertex_slot_.assign(surface.points.size(), kInvalidIndex);
-    mark_ = 0;
   }
-  if (++mark_ == 0) {
-    std::fill(vertex_mark_.begin(), vertex_mark_.end(), 0);
-    mark_ = 1;
-  }
+  const std::uint32_t mark = vertex_marks_.next(surface.points.size());
   std::vector<index_t> v;
   v.reserve(triangles.size() / 2 + 3);
   for (index_t f : triangles)
     for (index_t w : surface.triangles[f])
-      if (vertex_mark_[w] != mark_) {
-        vertex_mark_[w] = mark_;
+      if (vertex_marks_.stamp[w] != mark) {
+        vertex_marks_.stamp[w] = mark;
         vertex_slot_[w] = static_cast<index_t>(v.size());
         v.push_back(w);
       }

@@ -2,6 +2,7 @@
 // Internal to Core/segment.
 #pragma once
 
+#include "common/stamps.h"
 #include "geometry/fit_primitives.h"
 #include "segment/detect_sharp_edges.h"
 #include "segment/normal_tensor_curvature.h"
@@ -42,9 +43,8 @@ struct State {
 
  private:
   // Marks for vertices_of: linear time, no sort (it runs on every fit).
-  mutable std::vector<std::uint32_t> vertex_mark_;
+  mutable Stamps<std::uint32_t> vertex_marks_;
   mutable std::vector<index_t> vertex_slot_;
-  mutable std::uint32_t mark_ = 0;
 
  public:
 

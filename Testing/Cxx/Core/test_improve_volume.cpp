@@ -87,7 +87,7 @@ TEST(ScanLiveTets, VisitsLiveTetsInSlotOrderPerChunk) {
     if (!m.vertex_alive(v) || m.vertex_class(v) != VertexClass::Inner) continue;
     m.vertex_neighbors(v, nb);
     for (const index_t w : nb)
-      if (m.vertex_class(w) == VertexClass::Inner && m.collapse_edge(w, v, nullptr) == OpStatus::Ok) {
+      if (m.vertex_class(w) == VertexClass::Inner && m.collapse_edge(Keep{w}, Remove{v}, nullptr) == OpStatus::Ok) {
         ++collapsed;
         break;
       }

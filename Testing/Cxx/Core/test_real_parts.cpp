@@ -53,7 +53,7 @@ TEST_P(RealPart, BuildsAndSurvivesShapePreservingOperations) {
       case 3: s = m.flip_44(a, b, static_cast<int>((r >> 16) & 1), t); break;
       default:
         // Half-edge collapse of an inner vertex onto its neighbour.
-        if (m.vertex_class(a) == VertexClass::Inner) s = m.half_edge_collapse(a, b);
+        if (m.vertex_class(a) == VertexClass::Inner) s = m.half_edge_collapse(Keep{b}, Remove{a});
         break;
     }
     accepted += s == OpStatus::Ok;

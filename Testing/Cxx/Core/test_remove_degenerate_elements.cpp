@@ -377,7 +377,7 @@ TEST(DegenerateRemoval, HalfEdgeCollapseKeepingInverted) {
   {
     TetMesh good = build(testing::make_cube_mesh(2, 0.0, 1));
     const Tet T = good.tet(0);
-    EXPECT_EQ(good.half_edge_collapse_keeping_inverted(T[0], T[1]), OpStatus::InvalidArgument);
+    EXPECT_EQ(good.half_edge_collapse_keeping_inverted(Keep{T[1]}, Remove{T[0]}), OpStatus::InvalidArgument);
   }
   const TetMesh m = build(make_slid_cube(0.9, 23), /*allow_inverted=*/true);
   const std::size_t inverted = count_inverted(m);
@@ -391,9 +391,9 @@ TEST(DegenerateRemoval, HalfEdgeCollapseKeepingInverted) {
         // Inner removed vertex: the boundary, hence the volume, stays.
         if (i == j || m.vertex_class(T[i]) != VertexClass::Inner) continue;
         TetMesh a = m;
-        const OpStatus plain = a.half_edge_collapse(T[i], T[j]);
+        const OpStatus plain = a.half_edge_collapse(Keep{T[j]}, Remove{T[i]});
         TetMesh b = m;
-        const OpStatus tolerant = b.half_edge_collapse_keeping_inverted(T[i], T[j]);
+        const OpStatus tolerant = b.half_edge_collapse_keeping_inverted(Keep{T[j]}, Remove{T[i]});
         ++tried;
         if (plain == OpStatus::Ok) {
           // Nothing to tolerate: the same result.

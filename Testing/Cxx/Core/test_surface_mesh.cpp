@@ -306,7 +306,7 @@ TEST(ExtractBoundarySurface, AfterLocalOperations) {
   mesh.vertex_neighbors(inner, around);
   bool collapsed = false;
   for (index_t w : around) {
-    if (mesh.half_edge_collapse(inner, w) == OpStatus::Ok) {
+    if (mesh.half_edge_collapse(Keep{w}, Remove{inner}) == OpStatus::Ok) {
       collapsed = true;
       break;
     }

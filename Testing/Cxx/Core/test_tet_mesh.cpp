@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <map>
 #include <set>
+#include <type_traits>
+#include <utility>
 
 namespace femorph {
 namespace {
@@ -342,11 +344,53 @@ TEST(SplitFace, BoundaryFaceGivesThreeTets) {
 }
 
 // ---------------------------------------------------------------------------
+// A collapse names its vertices' roles: Keep{} and Remove{} in that order;
+// plain ids or swapped roles do not compile.
+template <class K, class R, class = void>
+struct CanCollapse : std::false_type {};
+template <class K, class R>
+struct CanCollapse<K, R, std::void_t<decltype(std::declval<TetMesh&>().collapse_edge(std::declval<K>(),
+                                                                                      std::declval<R>(), nullptr))>>
+    : std::true_type {};
+template <class K, class R, class = void>
+struct CanHalfEdgeCollapse : std::false_type {};
+template <class K, class R>
+struct CanHalfEdgeCollapse<
+    K, R, std::void_t<decltype(std::declval<TetMesh&>().half_edge_collapse(std::declval<K>(), std::declval<R>()))>>
+    : std::true_type {};
+
+TEST(CollapseEdge, RolesAreTyped) {
+  static_assert(CanCollapse<Keep, Remove>::value);
+  static_assert(!CanCollapse<Remove, Keep>::value);
+  static_assert(!CanCollapse<index_t, index_t>::value);
+  static_assert(CanHalfEdgeCollapse<Keep, Remove>::value);
+  static_assert(!CanHalfEdgeCollapse<Remove, Keep>::value);
+  static_assert(!CanHalfEdgeCollapse<index_t, index_t>::value);
+  static_assert(!std::is_convertible_v<index_t, Keep> && !std::is_convertible_v<Remove, Keep>);
+  static_assert(!std::is_convertible_v<index_t, Remove> && !std::is_convertible_v<Keep, Remove>);
+  // The vertex named Keep stays where it is, the one named Remove goes.
+  TetMesh m = two_tets();
+  index_t v = -1;
+  ASSERT_EQ(m.split_edge(3, 0, nullptr, &v), OpStatus::Ok);
+  TetMesh other = m;
+  const Vec3 at3 = m.point(3), atv = m.point(v);
+  ASSERT_EQ(m.half_edge_collapse(Keep{3}, Remove{v}), OpStatus::Ok);
+  EXPECT_TRUE(m.vertex_alive(3));
+  EXPECT_FALSE(m.vertex_alive(v));
+  EXPECT_EQ(m.point(3), at3);
+  ASSERT_EQ(other.half_edge_collapse(Keep{v}, Remove{3}), OpStatus::Ok);
+  EXPECT_TRUE(other.vertex_alive(v));
+  EXPECT_FALSE(other.vertex_alive(3));
+  EXPECT_EQ(other.point(v), atv);
+  expect_valid(m);
+  expect_valid(other);
+}
+
 TEST(CollapseEdge, UndoesASplit) {
   TetMesh m = two_tets();
   index_t v = -1;
   ASSERT_EQ(m.split_edge(3, 0, nullptr, &v), OpStatus::Ok);
-  ASSERT_EQ(m.half_edge_collapse(v, 3), OpStatus::Ok);
+  ASSERT_EQ(m.half_edge_collapse(Keep{3}, Remove{v}), OpStatus::Ok);
   EXPECT_EQ(tet_sets(m), sorted_sets({{0, 1, 2, 3}, {0, 1, 2, 4}}));
   EXPECT_FALSE(m.vertex_alive(v));
   expect_valid(m);
@@ -357,7 +401,7 @@ TEST(CollapseEdge, LinkConditionRefusesASingleTet) {
   TetMesh m;
   ASSERT_TRUE(m.build(p, {{0, 1, 2, 3}}).ok);
   const Snapshot before(m);
-  EXPECT_EQ(m.collapse_edge(0, 1, nullptr), OpStatus::LinkCondition);
+  EXPECT_EQ(m.collapse_edge(Keep{0}, Remove{1}, nullptr), OpStatus::LinkCondition);
   EXPECT_TRUE(Snapshot(m) == before);
 }
 
@@ -367,11 +411,11 @@ TEST(CollapseEdge, RefusesInversionAndKeepsTheMesh) {
   ASSERT_EQ(m.split_face(0, 3, nullptr, &c), OpStatus::Ok);  // interior vertex c
   const Snapshot before(m);
   const Vec3 far(0.3, 0.3, 5.0);
-  EXPECT_EQ(m.collapse_edge(c, 0, &far), OpStatus::Inverted);
+  EXPECT_EQ(m.collapse_edge(Keep{c}, Remove{0}, &far), OpStatus::Inverted);
   EXPECT_TRUE(Snapshot(m) == before);
   // Collapsing c onto vertex 0 keeps a valid mesh of the two original tets'
   // union: back to ... four tets? No: c's six tets lose the two on edge (c, 0).
-  ASSERT_EQ(m.half_edge_collapse(c, 0), OpStatus::Ok);
+  ASSERT_EQ(m.half_edge_collapse(Keep{0}, Remove{c}), OpStatus::Ok);
   EXPECT_EQ(tet_sets(m), sorted_sets({{0, 1, 2, 3}, {0, 1, 2, 4}}));
   expect_valid(m);
 }
@@ -455,7 +499,7 @@ TEST(FlipEdgeToFan, MatchesSplitThenCollapse) {
         TetMesh split = mesh, fan = mesh;
         index_t m = -1;
         ASSERT_EQ(split.split_edge(a, b, nullptr, &m), OpStatus::Ok);
-        const bool collapsed = split.half_edge_collapse(m, apex) == OpStatus::Ok;
+        const bool collapsed = split.half_edge_collapse(Keep{apex}, Remove{m}) == OpStatus::Ok;
         const Snapshot before(fan);
         const OpStatus s = fan.flip_edge_to_fan(a, b, apex, ring, opposite);
         EXPECT_EQ(s == OpStatus::Ok, collapsed) << "edge " << a << "-" << b << " apex " << apex;
@@ -493,8 +537,8 @@ TEST(CollapseEdge, GivenBallsGiveTheSameMesh) {
       const Vec3 mid = 0.5 * (plain.point(a) + plain.point(b));
       given.vertex_ball(a, ball_keep);
       given.vertex_ball(b, ball_remove);
-      const OpStatus s1 = plain.collapse_edge(a, b, &mid);
-      const OpStatus s2 = given.collapse_edge(a, b, &mid, ball_keep, ball_remove);
+      const OpStatus s1 = plain.collapse_edge(Keep{a}, Remove{b}, &mid);
+      const OpStatus s2 = given.collapse_edge(Keep{a}, Remove{b}, &mid, ball_keep, ball_remove);
       ASSERT_EQ(s1, s2);
       (s1 == OpStatus::Ok ? done : refused) += 1;
       break;
@@ -533,11 +577,11 @@ TEST(CollapseEdge, CheckThenCollapseMatchesCollapseEdge) {
         const Vec3 p = half ? plain.point(a) : Vec3(0.5 * (plain.point(a) + plain.point(b)));
         checked.vertex_ball(a, ball_keep);
         checked.vertex_ball(b, ball_remove);
-        const OpStatus s1 = plain.collapse_edge(a, b, &p);
-        const OpStatus s2 = checked.check_collapse(a, b, p, ball_keep, ball_remove, stamps);
+        const OpStatus s1 = plain.collapse_edge(Keep{a}, Remove{b}, &p);
+        const OpStatus s2 = checked.check_collapse(Keep{a}, Remove{b}, p, ball_keep, ball_remove, stamps);
         ASSERT_EQ(s1, s2);
         if (s2 == OpStatus::Ok) {
-          ASSERT_EQ(checked.collapse_checked_edge(a, b, p, ball_keep, ball_remove), OpStatus::Ok);
+          ASSERT_EQ(checked.collapse_checked_edge(Keep{a}, Remove{b}, p, ball_keep, ball_remove), OpStatus::Ok);
           ++done;
         } else {
           ++refused[s2];
@@ -698,7 +742,7 @@ TEST(SortSpatially, SameMeshDenseAndInSpaceOrder) {
     index_t v;
     mesh.split_edge(a, nb.front(), nullptr, &v);
     const Vec3 mid = 0.5 * (mesh.point(a) + mesh.point(nb.back()));
-    collapsed += mesh.collapse_edge(a, nb.back(), &mid) == OpStatus::Ok;
+    collapsed += mesh.collapse_edge(Keep{a}, Remove{nb.back()}, &mid) == OpStatus::Ok;
   }
   ASSERT_GT(collapsed, 10u);
   ASSERT_TRUE(mesh.check_consistency().ok);

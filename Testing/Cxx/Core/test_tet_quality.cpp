@@ -435,8 +435,41 @@ TEST(ComputeTetQuality, EqualsPerTetFunctions) {
   EXPECT_EQ(jacobian[0], 0.0);
 }
 
+// No tets: nothing is written, whether points are given or not, and null
+// outputs are fine. Control: the same buffers with one tet get its values in
+// slot 0 and nothing beyond it.
 TEST(ComputeTetQuality, EmptyMesh) {
   compute_tet_quality({}, {}, nullptr, nullptr, nullptr, nullptr, nullptr);
+
+  constexpr double kUntouched = -12345.0;
+  std::array<std::array<double, 2>, 5> out;
+  const auto fill = [&] {
+    for (auto& measure : out) measure.fill(kUntouched);
+  };
+  const auto run = [&out](const std::vector<Vec3>& points, const std::vector<Tet>& tets) {
+    compute_tet_quality(points, tets, out[0].data(), out[1].data(), out[2].data(), out[3].data(), out[4].data());
+  };
+  const TetPoints p = corner_tet();
+  const std::vector<Vec3> points(p.begin(), p.end());
+  for (const std::vector<Vec3>& given : {std::vector<Vec3>{}, points}) {
+    fill();
+    run(given, {});
+    for (const auto& measure : out) {
+      EXPECT_EQ(measure[0], kUntouched);
+      EXPECT_EQ(measure[1], kUntouched);
+    }
+  }
+
+  fill();
+  run(points, {{0, 1, 2, 3}});
+  const DihedralRange r = dihedral(p);
+  EXPECT_DOUBLE_EQ(out[0][0], stretch(p));
+  EXPECT_DOUBLE_EQ(out[1][0], min_scaled_jacobian(CellKind::Tetra, p.data()));
+  EXPECT_DOUBLE_EQ(out[2][0], r.min);
+  EXPECT_DOUBLE_EQ(out[3][0], r.max);
+  EXPECT_DOUBLE_EQ(out[4][0], tet_signed_volume(p[0], p[1], p[2], p[3]));
+  EXPECT_NEAR(out[4][0], 1.0 / 6.0, 1e-15);
+  for (const auto& measure : out) EXPECT_EQ(measure[1], kUntouched);
 }
 
 }  // namespace

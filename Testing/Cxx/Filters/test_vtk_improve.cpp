@@ -407,10 +407,19 @@ TEST(Improve, BossHeightStretch16)
   ImproveRun run = Improve(deformed, reference);
   EXPECT_EQ(deformed->GetMTime(), inputTime);
   ExpectGoals(run, deformed, 0.2, boss.UndeformedMean);
-  EXPECT_LT(Field(run.Output, "ImproveDensityError", "After"), Field(run.Output, "ImproveDensityError", "Before"));
+  const double before = Field(run.Output, "ImproveDensityError", "Before");
+  const double after = Field(run.Output, "ImproveDensityError", "After");
+  // Eq. 2.35, as in thesis 2.7.4 (Table 2.14: 0.26 deformed -> 0.15).
+  EXPECT_LT(after, before);
+  EXPECT_LE(after, 0.15);
+  // The undeformed part scores what a mesh generator's output does (the Data
+  // parts: 0.15 to 0.19; boss_block 0.17); the improved stretched part is
+  // more even than that (0.14).
   const double own = OwnDensityError(reference);
   std::printf("  density error of the undeformed mesh against its own field: %.3f\n", own);
-  EXPECT_LE(Field(run.Output, "ImproveDensityError", "After"), 0.15);  // issue 5's goal
+  EXPECT_GE(own, 0.15);
+  EXPECT_LE(own, 0.19);
+  EXPECT_LT(after, own - 0.01);
   ExpectCurvesConsistent(run.Output, run.Out);
   EXPECT_NEAR(run.After.Volume, run.Before.Volume, 2e-3 * run.Before.Volume);
 }

@@ -1,0 +1,285 @@
+// TetMesh::build: the input checks, the orientation, face matching into the
+// adjacency codes, the manifold checks and the vertex classes (thesis
+// Fig. 2.37) of a mesh given as points and tets.
+#include "mesh/tet_mesh.h"
+
+#include "geometry/predicates.h"
+#include "mesh/tet_mesh_internal.h"
+
+#include <algorithm>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <sstream>
+#include <string>
+
+#include <omp.h>
+
+namespace femorph {
+
+namespace {
+
+/// Sorted face key and where it came from, for matching faces by sorting.
+struct FaceRecord {
+  index_t v[3];   // sorted vertex ids
+  index_t code;   // 4 * t + f
+  bool odd;       // the tet's face order is an odd permutation of v
+  bool operator<(const FaceRecord& o) const {
+    if (v[0] != o.v[0]) return v[0] < o.v[0];
+    if (v[1] != o.v[1]) return v[1] < o.v[1];
+    return v[2] < o.v[2];
+  }
+  bool same_face(const FaceRecord& o) const { return v[0] == o.v[0] && v[1] == o.v[1] && v[2] == o.v[2]; }
+};
+
+std::string plural(std::size_t n, const char* one, const char* many) {
+  std::ostringstream s;
+  s << n << ' ' << (n == 1 ? one : many);
+  return s.str();
+}
+
+}  // namespace
+
+Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const BuildOptions& options,
+                      BuildReport* report_out) {
+  *this = TetMesh();
+  BuildReport report;
+  const index_t nv = static_cast<index_t>(points.size());
+  const std::size_t nt = tets.size();
+  auto fail = [this](std::string msg) {
+    *this = TetMesh();
+    return Status::failure(std::move(msg));
+  };
+  if (nt == 0) return fail("the mesh has no tetrahedra");
+  if (nt > static_cast<std::size_t>(std::numeric_limits<index_t>::max() / 4))
+    return fail("the mesh has too many tetrahedra for 32-bit ids");
+  if (!options.face_regions.empty() && options.face_regions.size() != nt)
+    return fail("face_regions has " + std::to_string(options.face_regions.size()) + " rows for " +
+                std::to_string(nt) + " tets");
+
+  // The passes over every point, tet or face run in parallel where they
+  // are independent (the result does not depend on the number of threads).
+  const long npoints = static_cast<long>(points.size()), ntets = static_cast<long>(nt);
+  std::size_t nonfinite = 0;
+#pragma omp parallel for schedule(static) reduction(+ : nonfinite) if (npoints >= kParallelMinItems)
+  for (long i = 0; i < npoints; ++i) nonfinite += !points[static_cast<std::size_t>(i)].allFinite();
+  if (nonfinite) return fail(plural(nonfinite, "point has", "points have") + " NaN or infinite coordinates");
+
+  for (std::size_t t = 0; t < nt; ++t) {
+    const Tet& T = tets[t];
+    for (int i = 0; i < 4; ++i) {
+      if (T[i] < 0 || T[i] >= nv)
+        return fail("tet " + std::to_string(t) + " refers to point " + std::to_string(T[i]) +
+                    ", out of range [0, " + std::to_string(nv) + ")");
+      for (int j = 0; j < i; ++j)
+        if (T[i] == T[j])
+          return fail("tet " + std::to_string(t) + " uses point " + std::to_string(T[i]) + " twice");
+    }
+  }
+
+  // Orientation: count signs exactly; an all-negative input is flipped.
+  std::vector<signed char> sign(nt);
+  std::size_t npos = 0, nneg = 0, nzero = 0;
+#pragma omp parallel for schedule(static) reduction(+ : npos, nneg, nzero) if (ntets >= kParallelMinItems)
+  for (long i = 0; i < ntets; ++i) {
+    const std::size_t t = static_cast<std::size_t>(i);
+    const Tet& T = tets[t];
+    sign[t] = static_cast<signed char>(orient3d_sign(points[T[0]], points[T[1]], points[T[2]], points[T[3]]));
+    npos += sign[t] > 0;
+    nneg += sign[t] < 0;
+    nzero += sign[t] == 0;
+  }
+  std::vector<Tet> regions = options.face_regions;
+  if (nneg > npos) {
+    // The other convention: swapping local vertices 1 and 2 flips every tet;
+    // faces 1 and 2 swap with them.
+    for (std::size_t t = 0; t < nt; ++t) {
+      std::swap(tets[t][1], tets[t][2]);
+      sign[t] = static_cast<signed char>(-sign[t]);
+      if (!regions.empty()) std::swap(regions[t][1], regions[t][2]);
+    }
+    std::swap(npos, nneg);
+    report.flipped_tets = nt;
+  }
+
+  // Face matching: the faces, keyed by their sorted vertex triple, go into
+  // buckets by their smallest vertex (a counting sort), then a small sort
+  // inside each bucket: linear in practice, where one global sort of the
+  // 4 #T faces is not. A face's two copies share a bucket, so the buckets
+  // are matched independently. The records are written straight into their
+  // buckets from several threads (no array of records is zeroed first); the
+  // sort by key and then code makes the order unique.
+  const auto face_record = [&tets](std::size_t t, int f) {
+    FaceRecord r;
+    for (int k = 0; k < 3; ++k) r.v[k] = tets[t][kTetFace[f][k]];
+    r.odd = internal::sort3_parity(r.v);
+    r.code = static_cast<index_t>(4 * t + f);
+    return r;
+  };
+  // Each thread counts its own tets' faces per bucket and writes them into
+  // its own part of each bucket (the same static split of the tets in both
+  // loops), so no counter is shared between threads: no atomics.
+  std::vector<index_t> start(static_cast<std::size_t>(nv) + 1, 0);
+  const std::unique_ptr<FaceRecord[]> faces(new FaceRecord[4 * nt]);
+  {
+    const int threads = ntets >= kParallelMinItems ? std::max(1, omp_get_max_threads()) : 1;
+    std::vector<std::vector<index_t>> fill(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads)
+    {
+      const int id = omp_get_thread_num();
+      std::vector<index_t>& mine = fill[static_cast<std::size_t>(id)];
+      mine.assign(static_cast<std::size_t>(nv), 0);
+#pragma omp for schedule(static)
+      for (long i = 0; i < ntets; ++i) {
+        const Tet& T = tets[static_cast<std::size_t>(i)];
+        for (int f = 0; f < 4; ++f)
+          ++mine[static_cast<std::size_t>(std::min({T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]}))];
+      }
+      // Bucket starts, then each thread's offset inside each bucket.
+#pragma omp single
+      {
+        const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());  // may be fewer than asked
+        index_t next = 0;
+        for (index_t v = 0; v < nv; ++v) {
+          start[static_cast<std::size_t>(v)] = next;
+          for (std::size_t k = 0; k < team; ++k) {
+            index_t& count = fill[k][static_cast<std::size_t>(v)];
+            const index_t n = count;
+            count = next;
+            next += n;
+          }
+        }
+        start[static_cast<std::size_t>(nv)] = next;
+      }
+#pragma omp for schedule(static)
+      for (long i = 0; i < ntets; ++i)
+        for (int f = 0; f < 4; ++f) {
+          const FaceRecord r = face_record(static_cast<std::size_t>(i), f);
+          faces[static_cast<std::size_t>(mine[static_cast<std::size_t>(r.v[0])]++)] = r;
+        }
+    }
+  }
+  const auto by_key_then_code = [](const FaceRecord& x, const FaceRecord& y) {
+    return x < y || (x.same_face(y) && x.code < y.code);
+  };
+#pragma omp parallel for schedule(dynamic, 4096) if (nv >= kParallelMinItems)
+  for (index_t v = 0; v < nv; ++v) std::sort(&faces[start[v]], &faces[start[v + 1]], by_key_then_code);
+
+  rec_.resize(nt);
+#pragma omp parallel for schedule(static) if (ntets >= kParallelMinItems)
+  for (long t = 0; t < ntets; ++t)
+    rec_[static_cast<std::size_t>(t)] = TetRecord{tets[static_cast<std::size_t>(t)], Tet{{-1, -1, -1, -1}}};
+  std::vector<Tet>().swap(tets);
+  std::size_t overshared = 0, mismatched = 0, boundary = 0;
+  std::vector<char> offending(nt, 0);
+#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : overshared, mismatched, boundary) \
+    if (nv >= kParallelMinItems)
+  for (index_t v = 0; v < nv; ++v)
+  for (std::size_t i = static_cast<std::size_t>(start[v]), last = static_cast<std::size_t>(start[v + 1]); i < last;) {
+    std::size_t j = i + 1;
+    while (j < last && faces[j].same_face(faces[i])) ++j;
+    if (j - i == 1) {
+      ++boundary;
+      const index_t t = faces[i].code >> 2, f = faces[i].code & 3;
+      const index_t region = regions.empty() ? kInvalidIndex : std::max<index_t>(regions[t][f], -1);
+      rec_[t].n[f] = internal::boundary_code(region);
+    } else if (j - i == 2) {
+      const index_t a = faces[i].code, b = faces[i + 1].code;
+      rec_[a >> 2].n[a & 3] = b;
+      rec_[b >> 2].n[b & 3] = a;
+      // Two tets agree on orientation when they traverse the shared face in
+      // opposite cyclic orders.
+      if (faces[i].odd == faces[i + 1].odd) {
+        ++mismatched;
+        const index_t ta = a >> 2, tb = b >> 2;
+        // Blame the tet whose volume sign is the minority one.
+#pragma omp atomic write
+        offending[sign[ta] < 0 ? ta : (sign[tb] < 0 ? tb : ta)] = 1;
+      }
+    } else {
+      overshared += j - i;
+    }
+    i = j;
+  }
+  if (overshared)
+    return fail("the mesh is not conformal: " + plural(overshared, "tet face is", "tet faces are") +
+                " shared by more than two tets");
+  if (mismatched) {
+    const std::size_t n = static_cast<std::size_t>(std::count(offending.begin(), offending.end(), 1));
+    return fail("mixed orientation: " + plural(n, "tet is", "tets are") +
+                " oriented opposite to their neighbours (" + plural(mismatched, "face", "faces") +
+                " seen with the same orientation from both sides); fix the input's connectivity order");
+  }
+  report.boundary_faces = boundary;
+  report.inverted_tets = nneg;
+  report.degenerate_tets = nzero;
+  if (nneg && !options.allow_inverted)
+    return fail(plural(nneg, "tet is", "tets are") + " inverted (negative volume)");
+  if (nzero && !options.allow_degenerate)
+    return fail(plural(nzero, "tet has", "tets have") + " zero volume (degenerate)");
+
+  points_ = std::move(points);
+  allow_inverted_ = options.allow_inverted || options.allow_degenerate;
+  tet_origin_.resize(nt);
+  std::iota(tet_origin_.begin(), tet_origin_.end(), 0);
+  vertex_origin_.resize(nv);
+  for (index_t v = 0; v < nv; ++v) {
+    vertex_origin_[v].ids[0] = v;
+    vertex_origin_[v].weights[0] = 1.0;
+  }
+  std::vector<index_t>().swap(start);
+  vertex_tet_.assign(nv, kInvalidIndex);
+  std::vector<index_t> incidence(nv, 0);
+  for (std::size_t t = 0; t < nt; ++t)
+    for (index_t v : rec_[t].v) {
+      vertex_tet_[v] = static_cast<index_t>(t);
+      ++incidence[v];
+    }
+  for (index_t v = nv - 1; v >= 0; --v)
+    if (vertex_tet_[v] < 0) {
+      free_vertices_.push_back(v);
+      ++report.unused_points;
+    }
+  vclass_.assign(nv, VertexClass::Inner);
+
+  // Manifold vertex neighbourhoods: the ball walk must reach every incident
+  // tet (otherwise local operations would see only part of the vertex).
+  // The same ball classifies the vertex (used only when the build succeeds).
+  std::size_t nonmanifold_vertices = 0;
+  index_t first_bad = std::numeric_limits<index_t>::max();
+#pragma omp parallel reduction(+ : nonmanifold_vertices) reduction(min : first_bad) if (nv >= kParallelMinItems)
+  {
+    WalkMarks marks;
+    std::vector<index_t> ball;
+#pragma omp for schedule(dynamic, 4096)
+    for (index_t v = 0; v < nv; ++v) {
+      if (vertex_tet_[v] < 0) continue;
+      vertex_ball(v, ball, marks);
+      if (static_cast<index_t>(ball.size()) != incidence[v]) {
+        ++nonmanifold_vertices;
+        first_bad = std::min(first_bad, v);
+      } else {
+        vclass_[v] = classify_ball(v, ball);
+      }
+    }
+  }
+  if (nonmanifold_vertices)
+    return fail("the mesh is not manifold: the tets around " +
+                plural(nonmanifold_vertices, "vertex are", "vertices are") +
+                " not connected through faces (e.g. point " + std::to_string(first_bad) +
+                "); parts touching at a vertex or an edge are not supported");
+
+  std::size_t bad_edges = 0, bad_fans = 0;
+  internal::boundary_manifold_counts(*this, &bad_edges, &bad_fans);
+  if (bad_edges)
+    return fail("the boundary is not manifold: " + plural(bad_edges, "boundary edge has", "boundary edges have") +
+                " other than two boundary faces");
+  if (bad_fans)
+    return fail("the boundary is not manifold: at " + plural(bad_fans, "vertex", "vertices") +
+                " the boundary faces form more than one fan");
+
+  if (report_out) *report_out = report;
+  return Status::success();
+}
+
+}  // namespace femorph
