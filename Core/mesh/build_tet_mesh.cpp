@@ -56,6 +56,16 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
   if (!options.face_regions.empty() && options.face_regions.size() != nt)
     return fail("face_regions has " + std::to_string(options.face_regions.size()) + " rows for " +
                 std::to_string(nt) + " tets");
+  // Region ids are labels (a sub-mesh keeps its part's ids); the bound keeps
+  // the boundary code -2 - region far from overflowing.
+  constexpr index_t max_region = std::numeric_limits<index_t>::max() / 2;
+  for (std::size_t t = 0; t < options.face_regions.size(); ++t)
+    for (int f = 0; f < 4; ++f) {
+      const index_t r = options.face_regions[t][f];
+      if (r < -1 || r > max_region)
+        return fail("face_regions names region " + std::to_string(r) + " at tet " + std::to_string(t) + ", face " +
+                    std::to_string(f) + " (ids are -1 or in [0, " + std::to_string(max_region) + "])");
+    }
 
   // The passes over every point, tet or face run in parallel where they
   // are independent (the result does not depend on the number of threads).

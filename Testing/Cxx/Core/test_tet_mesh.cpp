@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -183,6 +185,22 @@ TEST(TetMeshBuild, BadInputMessages) {
   const Status s3 = m.build(fan, {{0, 1, 2, 3}, {0, 2, 1, 4}, {0, 1, 2, 5}});
   EXPECT_FALSE(s3.ok);
   EXPECT_NE(s3.message.find("more than two tets"), std::string::npos) << s3.message;
+  // Region ids: -1 or labels up to INT_MAX / 2; INT_MAX would overflow the
+  // boundary code -2 - region.
+  for (const index_t bad : {index_t(-2), std::numeric_limits<index_t>::max() / 2 + 1,
+                            std::numeric_limits<index_t>::max(), std::numeric_limits<index_t>::min()}) {
+    BuildOptions options;
+    options.face_regions = {{0, 1, bad, -1}};
+    const Status r = m.build(p, {{0, 1, 2, 3}}, options);
+    EXPECT_FALSE(r.ok) << bad;
+    EXPECT_NE(r.message.find("face_regions names region " + std::to_string(bad) + " at tet 0, face 2"),
+              std::string::npos)
+        << r.message;
+    EXPECT_EQ(m.live_tets(), 0u);
+  }
+  BuildOptions ok;
+  ok.face_regions = {{0, 1, std::numeric_limits<index_t>::max() / 2, -1}};
+  EXPECT_TRUE(m.build(p, {{0, 1, 2, 3}}, ok).ok);
 }
 
 TEST(TetMeshBuild, UnusedPointsAreDroppedAndReported) {
