@@ -64,6 +64,20 @@ public:
   /// The filter's name as ParaView shows it, e.g. "FEMorph Improve".
   const char* GetFilterLabel() const { return this->FilterLabel; }
 
+  ///@{
+  /// Field-data summary: one-tuple arrays (vtkIdTypeArray for counts,
+  /// vtkDoubleArray otherwise); AddSummary names its components; AddValues
+  /// is one tuple per value (e.g. per region).
+  static void AddCount(vtkFieldData* fd, const std::string& name, vtkIdType value);
+  static void AddValue(vtkFieldData* fd, const std::string& name, double value);
+  static void AddSummary(vtkFieldData* fd, const std::string& name,
+    const std::vector<std::pair<std::string, double>>& components);
+  static void AddValues(vtkFieldData* fd, const std::string& name, const std::vector<double>& values);
+  ///@}
+
+  /// "1 point" / "3 points".
+  static std::string Plural(std::size_t n, const char* one, const char* many);
+
 protected:
   /// The cells a filter reads; anything else is an input error, with one
   /// message for all filters.
@@ -149,19 +163,6 @@ protected:
     const femorph::CompactMesh& mesh, vtkUnstructuredGrid* source, vtkUnstructuredGrid* output);
   ///@}
 
-  ///@{
-  /// Field-data summary: one-tuple arrays (vtkIdTypeArray for counts,
-  /// vtkDoubleArray otherwise); AddSummary names its components; AddValues
-  /// is one tuple per value (e.g. per region).
-  static void AddCount(vtkFieldData* fd, const std::string& name, vtkIdType value);
-  static void AddValue(vtkFieldData* fd, const std::string& name, double value);
-  static void AddSummary(vtkFieldData* fd, const std::string& name,
-    const std::vector<std::pair<std::string, double>>& components);
-  static void AddValues(vtkFieldData* fd, const std::string& name, const std::vector<double>& values);
-  ///@}
-
-  /// "1 point" / "3 points".
-  static std::string Plural(std::size_t n, const char* one, const char* many);
 
 private:
   vtkFEMorphAlgorithm(const vtkFEMorphAlgorithm&) = delete;

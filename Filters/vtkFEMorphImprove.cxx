@@ -57,6 +57,133 @@ void SetFaceRegions(
   }
   mesh.classify_vertices();
 }
+
+/// Where the first few of `tets` are: their centres, for a message.
+std::string Centres(const femorph::TetMesh& mesh, const std::vector<femorph::index_t>& tets)
+{
+  std::ostringstream where;
+  const std::size_t shown = std::min<std::size_t>(tets.size(), 5);
+  for (std::size_t i = 0; i < shown; ++i)
+  {
+    const femorph::Tet& T = mesh.tet(tets[i]);
+    const femorph::Vec3 c =
+      (mesh.point(T[0]) + mesh.point(T[1]) + mesh.point(T[2]) + mesh.point(T[3])) / 4;
+    where << (i ? "; " : "") << "(" << c.x() << ", " << c.y() << ", " << c.z() << ")";
+  }
+  return where.str() + (tets.size() > shown ? "; ..." : "");
+}
+
+/// Cell arrays Stretch (Eq. 1.1) and Inverted (negative volume) of the output.
+void AddQualityArrays(const femorph::CompactMesh& compact, vtkUnstructuredGrid* output)
+{
+  const vtkIdType numTets = static_cast<vtkIdType>(compact.tets.size());
+  std::vector<double> stretch(compact.tets.size()), volume(compact.tets.size());
+  femorph::compute_tet_quality(
+    compact.points, compact.tets, stretch.data(), nullptr, nullptr, nullptr, volume.data());
+  vtkNew<vtkDoubleArray> stretchArray;
+  stretchArray->SetName("Stretch");
+  stretchArray->SetNumberOfTuples(numTets);
+  vtkNew<vtkUnsignedCharArray> inverted;
+  inverted->SetName("Inverted");
+  inverted->SetNumberOfTuples(numTets);
+  for (vtkIdType t = 0; t < numTets; ++t)
+  {
+    stretchArray->SetValue(t, stretch[static_cast<std::size_t>(t)]);
+    inverted->SetValue(t, volume[static_cast<std::size_t>(t)] < 0 ? 1 : 0);
+  }
+  output->GetCellData()->AddArray(stretchArray);
+  output->GetCellData()->AddArray(inverted);
+  output->GetCellData()->SetActiveScalars("Stretch");
+}
+
+/// CurveVertices and CurveOffsets in the output's numbering.
+void AddCurveVertices(const femorph::CompactMesh& compact,
+  const std::vector<femorph::BoundaryCurve>& curves, const femorph::BoundaryGeometry& geometry,
+  vtkFieldData* fd)
+{
+  std::vector<std::vector<femorph::index_t>> oldCurves(curves.size());
+  for (std::size_t c = 0; c < curves.size(); ++c)
+  {
+    oldCurves[c] = curves[c].vertices;
+  }
+  vtkNew<vtkIdTypeArray> vertices;
+  vertices->SetName(vtkFEMorphSegmentationArrays::CurveVerticesName);
+  vtkNew<vtkIdTypeArray> offsets;
+  offsets->SetName(vtkFEMorphSegmentationArrays::CurveOffsetsName);
+  offsets->InsertNextValue(0);
+  for (const auto& curve : femorph::trace_boundary_curves(compact, oldCurves, geometry.curve_regions))
+  {
+    for (const femorph::index_t v : curve)
+    {
+      vertices->InsertNextValue(v);
+    }
+    offsets->InsertNextValue(vertices->GetNumberOfTuples());
+  }
+  fd->AddArray(vertices);
+  fd->AddArray(offsets);
+}
+
+/// Seconds spent outside phased_odt (which times its own steps).
+struct ImproveTimes
+{
+  double Segmentation = 0, Preparation = 0, Output = 0, Total = 0;
+};
+
+/// The field-data summary: ImproveStretch, ImproveDensityError (NaN without
+/// a density target), ImproveCounts, ImproveTimes, ImproveStepTimes and,
+/// with `trace`, ImproveQualityTrace.
+void AddImproveSummary(vtkFieldData* fd, const femorph::PhasedOdtStats& stats, bool density,
+  const ImproveTimes& times, bool trace)
+{
+  using Filter = vtkFEMorphAlgorithm;
+  Filter::AddSummary(fd, "ImproveStretch",
+    { { "MinBefore", stats.min_stretch_before }, { "MeanBefore", stats.mean_stretch_before },
+      { "MinAfter", stats.min_stretch_after }, { "MeanAfter", stats.mean_stretch_after } });
+  Filter::AddSummary(fd, "ImproveDensityError",
+    { { "Before", density ? stats.density_error_before.mean : NaN },
+      { "After", density ? stats.density_error_after.mean : NaN } });
+  const auto d = [](std::size_t n) { return static_cast<double>(n); };
+  Filter::AddSummary(fd, "ImproveCounts",
+    { { "Splits", d(stats.splits) }, { "Collapses", d(stats.collapses) },
+      { "AccuracySplits", d(stats.accuracy_splits) }, { "Flips23", d(stats.flips_23) },
+      { "Flips32", d(stats.flips_32) }, { "Flips44", d(stats.flips_44) },
+      { "SurfaceFlips", d(stats.surface_flips) }, { "RemovedSlivers", d(stats.removed_slivers) },
+      { "RemovedCaps", d(stats.removed_caps) }, { "RemovedSpades", d(stats.removed_spades) },
+      { "RepairedInverted", d(stats.removed_inverted) },
+      { "RemainingInverted", d(stats.remaining_inverted.size()) },
+      { "MovedVertices", d(stats.moved_vertices) }, { "BelowFloor", d(stats.below_floor) },
+      { "BelowFloorAllBoundary", d(stats.below_floor_on_boundary) },
+      { "TetsBefore", d(stats.tets_before) }, { "TetsAfter", d(stats.tets_after) },
+      { "LeftAsItWas", stats.skipped ? 1.0 : 0.0 } });
+  Filter::AddSummary(fd, "ImproveTimes",
+    { { "Segmentation", times.Segmentation }, { "Curves", stats.phase_seconds[0] },
+      { "Surfaces", stats.phase_seconds[1] }, { "Volume", stats.phase_seconds[2] },
+      { "Total", times.Total } });
+  // The same time by step: set-up, the steps of Fig. 2.34 over all phases,
+  // the output.
+  std::vector<std::pair<std::string, double>> steps{ { "Preparation", times.Preparation } };
+  for (std::size_t i = 0; i < stats.step_seconds.size(); ++i)
+  {
+    steps.emplace_back(femorph::PhasedOdtStats::kStepNames[i], stats.step_seconds[i]);
+  }
+  steps.emplace_back("Output", times.Output);
+  Filter::AddSummary(fd, "ImproveStepTimes", steps);
+  if (trace)
+  {
+    // Seconds from the filter's start: the set-up before the loop first.
+    vtkNew<vtkDoubleArray> array;
+    array->SetName("ImproveQualityTrace");
+    array->SetNumberOfComponents(2);
+    array->SetComponentName(0, "Seconds");
+    array->SetComponentName(1, "MinStretch");
+    for (const auto& point : stats.quality_trace)
+    {
+      const double tuple[2] = { times.Segmentation + times.Preparation + point[0], point[1] };
+      array->InsertNextTuple(tuple);
+    }
+    fd->AddArray(array);
+  }
+}
 }
 
 //------------------------------------------------------------------------------
@@ -323,18 +450,9 @@ bool vtkFEMorphImprove::Execute(
   const std::size_t remaining = stats.remaining_inverted.size();
   if (remaining > 0 && this->RequireValid)
   {
-    std::ostringstream where;
-    const std::size_t shown = std::min<std::size_t>(remaining, 5);
-    for (std::size_t i = 0; i < shown; ++i)
-    {
-      const femorph::Tet& T = mesh.tet(stats.remaining_inverted[i]);
-      const femorph::Vec3 c =
-        (mesh.point(T[0]) + mesh.point(T[1]) + mesh.point(T[2]) + mesh.point(T[3])) / 4;
-      where << (i ? "; " : "") << "(" << c.x() << ", " << c.y() << ", " << c.z() << ")";
-    }
     this->Fail(Plural(remaining, "inverted tetrahedron", "inverted tetrahedra") +
-      " could not be repaired by local operations (centres " + where.str() +
-      (remaining > shown ? "; ..." : "") +
+      " could not be repaired by local operations (centres " +
+      Centres(mesh, stats.remaining_inverted) +
       "). Turn RequireValid off to get the mesh with them marked in the 'Inverted' cell array.");
     return false;
   }
@@ -343,26 +461,7 @@ bool vtkFEMorphImprove::Execute(
   const femorph::CompactMesh compact = mesh.compact();
   heapReuse.reset();
   this->FromCompactMesh(compact, working, output);
-
-  // Quality arrays.
-  const vtkIdType numTets = static_cast<vtkIdType>(compact.tets.size());
-  std::vector<double> stretch(compact.tets.size()), volume(compact.tets.size());
-  femorph::compute_tet_quality(
-    compact.points, compact.tets, stretch.data(), nullptr, nullptr, nullptr, volume.data());
-  vtkNew<vtkDoubleArray> stretchArray;
-  stretchArray->SetName("Stretch");
-  stretchArray->SetNumberOfTuples(numTets);
-  vtkNew<vtkUnsignedCharArray> inverted;
-  inverted->SetName("Inverted");
-  inverted->SetNumberOfTuples(numTets);
-  for (vtkIdType t = 0; t < numTets; ++t)
-  {
-    stretchArray->SetValue(t, stretch[static_cast<std::size_t>(t)]);
-    inverted->SetValue(t, volume[static_cast<std::size_t>(t)] < 0 ? 1 : 0);
-  }
-  output->GetCellData()->AddArray(stretchArray);
-  output->GetCellData()->AddArray(inverted);
-  output->GetCellData()->SetActiveScalars("Stretch");
+  AddQualityArrays(compact, output);
   if (remaining > 0)
   {
     this->Warn(Plural(remaining, "inverted tetrahedron", "inverted tetrahedra") +
@@ -383,81 +482,19 @@ bool vtkFEMorphImprove::Execute(
     this->Warn(os.str());
   }
 
-  // The curves' vertex lists in the output's numbering.
   vtkFieldData* fd = output->GetFieldData();
   if (haveSegmentation && !seg.Curves.empty())
   {
-    std::vector<std::vector<femorph::index_t>> oldCurves(seg.Curves.size());
-    for (std::size_t c = 0; c < seg.Curves.size(); ++c)
-    {
-      oldCurves[c] = seg.Curves[c].vertices;
-    }
-    const auto curves = femorph::trace_boundary_curves(compact, oldCurves, geometry.curve_regions);
-    vtkNew<vtkIdTypeArray> vertices;
-    vertices->SetName(vtkFEMorphSegmentationArrays::CurveVerticesName);
-    vtkNew<vtkIdTypeArray> offsets;
-    offsets->SetName(vtkFEMorphSegmentationArrays::CurveOffsetsName);
-    offsets->InsertNextValue(0);
-    for (const auto& curve : curves)
-    {
-      for (const femorph::index_t v : curve)
-      {
-        vertices->InsertNextValue(v);
-      }
-      offsets->InsertNextValue(vertices->GetNumberOfTuples());
-    }
-    fd->AddArray(vertices);
-    fd->AddArray(offsets);
+    AddCurveVertices(compact, seg.Curves, geometry, fd);
   }
 
-  // Summary.
-  AddSummary(fd, "ImproveStretch",
-    { { "MinBefore", stats.min_stretch_before }, { "MeanBefore", stats.mean_stretch_before },
-      { "MinAfter", stats.min_stretch_after }, { "MeanAfter", stats.mean_stretch_after } });
-  const bool density = !target.density.empty() && po.density_control;
-  AddSummary(fd, "ImproveDensityError",
-    { { "Before", density ? stats.density_error_before.mean : NaN },
-      { "After", density ? stats.density_error_after.mean : NaN } });
-  const auto d = [](std::size_t n) { return static_cast<double>(n); };
-  AddSummary(fd, "ImproveCounts",
-    { { "Splits", d(stats.splits) }, { "Collapses", d(stats.collapses) },
-      { "AccuracySplits", d(stats.accuracy_splits) }, { "Flips23", d(stats.flips_23) },
-      { "Flips32", d(stats.flips_32) }, { "Flips44", d(stats.flips_44) },
-      { "SurfaceFlips", d(stats.surface_flips) }, { "RemovedSlivers", d(stats.removed_slivers) },
-      { "RemovedCaps", d(stats.removed_caps) }, { "RemovedSpades", d(stats.removed_spades) },
-      { "RepairedInverted", d(stats.removed_inverted) }, { "RemainingInverted", d(remaining) },
-      { "MovedVertices", d(stats.moved_vertices) }, { "BelowFloor", d(stats.below_floor) },
-      { "BelowFloorAllBoundary", d(stats.below_floor_on_boundary) },
-      { "TetsBefore", d(stats.tets_before) }, { "TetsAfter", d(stats.tets_after) },
-      { "LeftAsItWas", stats.skipped ? 1.0 : 0.0 } });
-  AddSummary(fd, "ImproveTimes",
-    { { "Segmentation", segmentationSeconds }, { "Curves", stats.phase_seconds[0] },
-      { "Surfaces", stats.phase_seconds[1] }, { "Volume", stats.phase_seconds[2] },
-      { "Total", SecondsSince(start) } });
-  // The same time by step: set-up, the steps of Fig. 2.34 over all phases,
-  // the output.
-  std::vector<std::pair<std::string, double>> steps{ { "Preparation", preparationSeconds } };
-  for (std::size_t i = 0; i < stats.step_seconds.size(); ++i)
-  {
-    steps.emplace_back(femorph::PhasedOdtStats::kStepNames[i], stats.step_seconds[i]);
-  }
-  steps.emplace_back("Output", SecondsSince(improveEnd));
-  AddSummary(fd, "ImproveStepTimes", steps);
-  if (this->TraceQuality)
-  {
-    // Seconds from the filter's start: the set-up before the loop first.
-    vtkNew<vtkDoubleArray> trace;
-    trace->SetName("ImproveQualityTrace");
-    trace->SetNumberOfComponents(2);
-    trace->SetComponentName(0, "Seconds");
-    trace->SetComponentName(1, "MinStretch");
-    for (const auto& point : stats.quality_trace)
-    {
-      const double tuple[2] = { segmentationSeconds + preparationSeconds + point[0], point[1] };
-      trace->InsertNextTuple(tuple);
-    }
-    fd->AddArray(trace);
-  }
+  ImproveTimes times;
+  times.Segmentation = segmentationSeconds;
+  times.Preparation = preparationSeconds;
+  times.Output = SecondsSince(improveEnd);
+  times.Total = SecondsSince(start);
+  AddImproveSummary(fd, stats, !target.density.empty() && po.density_control, times,
+    this->TraceQuality != 0);
   if (haveSegmentation)
   {
     AddValues(fd, "GeometricError", stats.geometric_error_after);
