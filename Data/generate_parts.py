@@ -66,7 +66,8 @@ GMSH_QUAD = 3       # Gmsh element type: 4-node quadrangle
 GMSH_HEX = 5        # Gmsh element type: 8-node hexahedron (VTK's node order)
 VTK_HEXAHEDRON_TYPE = 12
 
-# Gmsh surface type -> FEMorph primitive name (DESIGN.md "RegionType" codes).
+# Gmsh surface type -> FEMorph primitive name (the RegionType codes of
+# docs/ARCHITECTURE.md).
 PRIMITIVE_OF_GMSH_TYPE = {
     "Plane": "plane",
     "Cylinder": "cylinder",

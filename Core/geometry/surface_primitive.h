@@ -1,6 +1,6 @@
 // Analytic surfaces the segmentation recognises (thesis 2.4): plane,
-// cylinder, cone, sphere, torus. Type codes are those of DESIGN.md, stored in
-// the RegionType field array.
+// cylinder, cone, sphere, torus. The type codes are stored in the RegionType
+// field array (docs/ARCHITECTURE.md, "Data that flows between filters").
 #pragma once
 
 #include "common/types.h"

@@ -154,7 +154,7 @@ struct SplitEval {
 /// collapse m -> into right after the split), when their scaled distance is
 /// at most beta2. In a layer stretched across, the midpoints of two split
 /// edges of one triangle lie half the third edge apart; left to the
-/// collapse pass, 85% of phase 3's first collapses at x3 were such pairs.
+/// collapse pass, they are most of the volume phase's first collapses.
 /// Planned on the ring before the split, read only (in parallel; a
 /// candidate whose ring an earlier split of its batch changed is requeued,
 /// so the plan still holds when it is committed): every
@@ -162,9 +162,8 @@ struct SplitEval {
 /// `into` those without `into` must stay at or above options.min_stretch,
 /// no edge of `into` to the ring's vertices or the edge's ends may
 /// become long (scaled length >= beta1), and none of the edges it makes may
-/// exist already. Committed as one TetMesh::flip_edge_to_fan, the same mesh
-/// without making and removing the midpoint (x3 benchmark: the density
-/// step's serial part about 0.4 s shorter).
+/// exist already. Committed as one TetMesh::flip_edge_to_fan: the same mesh
+/// without making and removing the midpoint in the serial part of the step.
 void plan_merge(const TetMesh& mesh, const DensityGrid& grid, const DensityControlOptions& options,
                 const std::vector<char>& made, const Vec3& m, TetMesh::WalkMarks& marks, SplitEval& e) {
   const index_t a = e.entry.a, b = e.entry.b;
@@ -400,8 +399,8 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
       // back into the heap when still long (an edge stretched x3 needs two
       // halvings; left to the next loop, the collapses in between undo part
       // of the first). Not their halves: without smoothing in between,
-      // repeated halving of a fan packs midpoints too closely (a cube
-      // stretched x12: density error 0.35 with one level, 0.48 with all).
+      // repeated halving of a fan packs midpoints too closely (on a cube
+      // stretched x12 the density error ends higher).
       const bool original_edge = !made_here(top.a) && !made_here(top.b);
       if (static_cast<std::size_t>(v) >= made.size()) made.resize(static_cast<std::size_t>(v) + 1, 0);
       made[v] = 1;

@@ -52,8 +52,8 @@ struct DensityControlOptions {
   /// below this fraction of the worst tet it replaces. Beyond the thesis: the
   /// long edge is what makes its ring poor, and the smoothing and the
   /// degenerate removal that follow repair the halves; a split refused
-  /// leaves the region coarse for good (a boss top stretched x3, edges up to
-  /// 8 times their target, stayed at stretch 0.066 with 1.0).
+  /// leaves the region coarse for good (a boss top stretched x3 stayed flat
+  /// with 1.0).
   double split_relative_floor = 0.5;
   /// Beyond the thesis: a split pass pushes the halves of the edges it
   /// started with back into its heap while they are still long (one pass
@@ -65,8 +65,7 @@ struct DensityControlOptions {
   /// its lower vertex id) and its longer part then in half: three pieces,
   /// the number nearest the target there (n pieces are |n / (L rho) - 1|
   /// off), where halving made two or four (an edge at 3 / rho made four of
-  /// 0.75 / rho, which no collapse takes back). x3 benchmark: density error
-  /// 0.150 -> 0.148, minimum stretch 0.318 -> 0.321, 0.3-0.5 s more.
+  /// 0.75 / rho, which no collapse takes back).
   bool split_in_thirds = true;
   /// Beyond the thesis: a split pass merges an inner midpoint into an inner
   /// vertex it made earlier when the two are closer than beta2 of the

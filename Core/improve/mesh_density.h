@@ -70,8 +70,8 @@ class DensityGrid {
   /// Returns false (grid left empty) without tets or positive densities, or
   /// when the grid would have more than `max_points` points. Without
   /// `with_trilinear` only DensityLookup::Cell is prepared (Improve's
-  /// lookup; the filling for the trilinear one took 0.13 s of a 3M-point
-  /// grid), and a trilinear lookup returns the cell value.
+  /// lookup; the trilinear one needs one more pass over the grid), and a
+  /// trilinear lookup returns the cell value.
   bool build(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
              const std::vector<double>& densities, double cell_size,
              std::size_t max_points = std::size_t(1) << 27, bool with_trilinear = true);

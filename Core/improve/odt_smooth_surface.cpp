@@ -178,7 +178,7 @@ index_t opposite_vertex(const TetMesh& mesh, index_t p, index_t q, index_t v, in
 
 /// What smoothing a surface vertex needs from the topology, which smoothing
 /// does not change: gathered once per call instead of once per sweep (the
-/// ball and edge-ring walks were about 40% of the sweeps' time).
+/// ball and edge-ring walks are a large share of a sweep's time).
 struct SurfaceStencils {
   std::vector<index_t> vertex;
   std::vector<VertexConstraint> constraint;
@@ -202,8 +202,7 @@ SurfaceStencils surface_stencils(const TetMesh& mesh, const BoundaryGeometry& ge
     candidates.push_back(v);
   }
   // In parallel over fixed chunks of the candidates, each into its own
-  // part, joined in order: the same stencils whatever the number of threads
-  // (x3 benchmark: 0.13 s per call in one thread).
+  // part, joined in order: the same stencils whatever the number of threads.
   constexpr std::size_t kChunk = 256;
   const long chunks = static_cast<long>((candidates.size() + kChunk - 1) / kChunk);
   std::vector<SurfaceStencils> parts(static_cast<std::size_t>(chunks));

@@ -50,10 +50,9 @@ bool odt_centre_step(const TetMesh& mesh, const std::vector<index_t>& ball, inde
     Vec3 centre = bary;
     if (circumcentre[t] && !tet_circumcentre(a, b, cc, d, &centre)) centre = bary;
     // Eq. 2.31 with rho = 1 (volume weights), not the equal weights
-    // of Eq. 2.34: measured, the mean stretch is about 0.005 lower
-    // and the minimum mixed, but equal weights left fandisk (inner
-    // vertices jittered, smoothing and flips only) at 0.178, below
-    // the 0.2 goal, against 0.207.
+    // of Eq. 2.34: equal weights give a slightly higher mean stretch
+    // but left a real part (fandisk, inner vertices jittered,
+    // smoothing and flips only) below a minimum stretch of 0.2.
     const double weight = volume * rho;
     sum_c += weight * centre;
     sum_w += weight;

@@ -42,8 +42,8 @@ struct OdtSmoothOptions {
   bool quality_guard = true;
   /// With the guard, no tet of the ball at or above this stretch may fall
   /// below it (move_keeps_quality()). Off (0) for inner vertices: the rule
-  /// blocks moves that ODT needs (fandisk, inner vertices jittered: min
-  /// stretch 0.21 without, 0.17 with 0.3); the boundary phases use it.
+  /// blocks moves that ODT needs (fandisk with its inner vertices jittered
+  /// keeps a lower minimum with it); the boundary phases use it.
   double quality_floor = 0;
   /// Beyond the thesis (relax_edge_lengths): when set, a vertex moves toward
   /// the rest position of springs along its edges instead of Eq. 2.31's
@@ -53,7 +53,7 @@ struct OdtSmoothOptions {
   /// With the guard: a ball whose minimum stretch is above guard_keep may
   /// lose up to this fraction of it, down to guard_keep (0: the minimum may
   /// not drop). The springs of edge_density do not shape tets; a strict
-  /// guard refused 60% of their moves.
+  /// guard refuses most of their moves.
   double guard_drop = 0;
   double guard_keep = 0.35;
 };

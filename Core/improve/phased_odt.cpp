@@ -159,11 +159,11 @@ void smooth_boundary_near_poor_tets(TetMesh& mesh, const BoundaryGeometry& geome
 void smooth_volume_round(TetMesh& mesh, const PhasedOdtOptions& options, int iterations,
                          const std::vector<std::uint8_t>& mask, PhasedOdtStats& stats) {
   ImproveVolumeOptions ivo;
-  ivo.rounds = 1;  // a second changed the benchmark's minimum by < 0.005 for 2 s at x3
+  ivo.rounds = 1;  // a second barely raises the minimum for its cost
   ivo.smooth.iterations = iterations;
   ivo.smooth.vertex_mask = mask;
   // Repairing the poor tets only: flips from them only, not from all tets
-  // below 0.4 (benchmark x1.6 1.6 -> 1.3 s, x3 4.0 -> 3.0 s, the same minimum).
+  // below 0.4 (faster, the same minimum).
   if (options.poor_elements_only) ivo.flips.quality_threshold = options.quality_floor;
   if (options.flips) {
     const ImproveVolumeStats vs = improve_volume(mesh, ivo);
@@ -192,9 +192,8 @@ void repair_tets_below_floor(TetMesh& mesh, const BoundaryGeometry& geometry, co
     stats.splits += split_locked_tets(mesh, lo).splits;
     WorstVertexOptions wo;
     wo.vertex_mask = movable_vertices(mesh, options);
-    // Repairing the poor tets only: their vertices only (benchmark x1.6:
-    // 1.9 -> 1.5 s at the same minimum, mean stretch 0.617 -> 0.627; x3
-    // 4.8 -> 3.5 s, minimum 0.198 -> 0.190).
+    // Repairing the poor tets only: their vertices only (faster; the
+    // minimum about the same).
     wo.threshold = options.poor_elements_only ? options.quality_floor : std::max(wo.threshold, options.quality_floor);
     stats.moved_vertices += optimize_worst_vertices(mesh, wo).improved;
     // From the second pass on, the tets still below the floor (inner
@@ -247,8 +246,8 @@ void finish_improvement(TetMesh& mesh, const BoundaryGeometry& geometry, const P
     ro.quality_floor = options.quality_floor;
     if (options.accuracy_control && !target.acceptable_error.empty()) ro.acceptable_error = &target.acceptable_error;
     // The surface vertices first; one more inner sweep then takes up the
-    // inner edges their moves changed (x3 benchmark: density error 0.156
-    // -> 0.150, minimum stretch 0.304 -> 0.319, 0.5 s more).
+    // inner edges their moves changed (a lower density error and a higher
+    // minimum stretch than without it).
     if (options.smooth_surfaces) {
       stats.moved_vertices += relax_surface_edge_lengths(mesh, geometry, *target.density, ro).moved;
       ++ro.iterations;
@@ -360,8 +359,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
     if (report(0.2, "poor elements")) {
       smooth_boundary_near_poor_tets(mesh, geometry, target, options, stats);
       // One ODT sweep: the passes after it place these vertices one by one
-      // (benchmark, odt_iterations sweeps -> one: x3 3.5 -> 2.8 s, minimum
-      // 0.189 -> 0.193; x1.6 1.29 -> 1.22 s, 0.250 -> 0.251).
+      // (more sweeps took longer for no better minimum).
       if (options.smooth_volume)
         smooth_volume_round(mesh, options, 1,
                             vertices_of_poor_tets(mesh, movable_vertices(mesh, options), options.quality_floor),
@@ -424,7 +422,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         operations += dcs.splits + dcs.collapses;
         // Beyond the thesis: the splits and collapses scatter neighbours over
         // memory (new tets fill freed slots anywhere); renumbered along
-        // space, the steps after them walk the mesh 1.5-2x faster at 1M tets.
+        // space, the steps after them walk the mesh faster.
         if (phase == 2 && dcs.splits + dcs.collapses > 0 && mesh.live_tets() >= options.sort_min_tets)
           mesh.sort_spatially();
         t = lap(Step::Density, t);
@@ -459,8 +457,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         bso.vertex_mask = smooth_mask;
         // Beyond the thesis: a last loop after the first smooths only where
         // its few operations (below min_operation_fraction of the tets)
-        // changed the mesh; the loop before smoothed the rest (x3 benchmark:
-        // the surface phase 1.4 -> 1.0 s, minimum stretch 0.302 -> 0.319).
+        // changed the mesh; the loop before smoothed the rest.
         // The removal (B), density and accuracy operations mark where; the
         // inverted element removal does not, so after it all are smoothed.
         if (last_loop && loop > 0 && !inverted_removed) {
@@ -488,8 +485,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
         // Beyond the thesis: inside the loop only the vertices of the tets
         // below 0.5 (and their neighbours through those tets) are smoothed;
         // the finishing step sweeps all of them, right after the last loop,
-        // which therefore leaves them to it (x3 benchmark: 0.3 s less, min
-        // stretch 0.329 -> 0.331, at x1.6 0.325 -> 0.350).
+        // which therefore leaves them to it.
         if (!last_loop) {
           oso.vertex_mask = vertices_of_poor_tets(mesh, smooth_mask, 0.5);
           stats.moved_vertices += odt_smooth_volume(mesh, oso).moved;

@@ -37,21 +37,20 @@ struct PhasedOdtOptions {
   /// Beyond the thesis: the finishing round ends with odt_iterations sweeps
   /// of relax_surface_edge_lengths (with smooth_surfaces) and one more of
   /// relax_edge_lengths (edges pulled toward 1 / rho_GC), after one ODT
-  /// sweep instead of odt_iterations. Benchmark: density error (Eq. 2.35)
-  /// 0.164 -> 0.148 at x1.6 and 0.167 -> 0.150 at x3, mean stretch +0.02,
-  /// 0.5-0.9 s more. Only with a density target.
+  /// sweep instead of odt_iterations: the ODT sweeps leave the density
+  /// error (Eq. 2.35) above its goal, the relaxation brings it down and
+  /// raises the mean stretch. Only with a density target.
   bool relax_edge_lengths = true;
   /// ODT sweeps per step of the loop (thesis: "two or three times"). 2: a
-  /// third changed the benchmark's minimum and mean stretch by < 0.012 and
-  /// took about 10% of the time.
+  /// third barely changes the minimum and mean stretch for its cost.
   int odt_iterations = 2;
   /// Repetitions of the modified ODT loop per phase at most.
   int max_loops = 8;
   /// Beyond the thesis: a phase's loop also ends when its density and
   /// accuracy operations stop decreasing or touch fewer than this fraction
   /// of the tets (ODT smoothing keeps nudging edge lengths across the
-  /// thresholds; on the 527k-tet benchmark part the last loops cost 2 s each
-  /// for 0.2% less density error). 0: the thesis' rule, until none is left.
+  /// thresholds, and the last loops cost much for little). 0: the thesis'
+  /// rule, until none is left.
   double min_operation_fraction = 0.05;
   /// Beyond the thesis: the volume phase renumbers the mesh along space
   /// (TetMesh::sort_spatially) after each density control that changed it,
@@ -76,22 +75,20 @@ struct PhasedOdtOptions {
   /// below quality_floor are smoothed (curves and surfaces odt_iterations
   /// sweeps, volume one, with flips) and repair_tets_below_floor's passes
   /// run (vertex placement and flips for the tets below the floor only).
-  /// No density or accuracy control and no sweep over the whole mesh: 2.5-3x
+  /// No density or accuracy control and no sweep over the whole mesh:
   /// faster than the phases, but a stretched region keeps its stretched
-  /// edges and a lower minimum (benchmark x1.6: 0.27 in 1.2-1.6 s against
-  /// 0.35 in 3.2-5.1 s; x3: 0.21 in 2.4-2.8 s against 0.313 in 8.4-9.7 s;
-  /// with quality_floor 0.2, 0.20 in 0.9 s and 0.19 in 1.2-1.3 s).
-  /// Tets away from those below the floor and their neighbours stay as they
-  /// are.
+  /// edges and a lower minimum (Testing/Benchmarks/RESULTS.md). Tets away
+  /// from those below the floor and their neighbours stay as they are.
   bool poor_elements_only = false;
   /// Restriction to a region (Deform, Adapt): one flag per tet slot; only
   /// vertices all of whose tets are flagged move, and only edges between such
   /// vertices are split, collapsed or flipped. Empty: the whole mesh.
   std::vector<std::uint8_t> tet_mask;
-  /// Leave a mesh that needs nothing as it is (issue 5: "input already
-  /// perfect: no change, fast"): no inverted tet, every tet at or above
-  /// quality_floor, no edge beyond the density thresholds and every curved
-  /// region within its acceptable error. Off: always run the phases.
+  /// Leave a mesh that needs nothing as it is, unchanged and fast (an
+  /// acceptance case of Improve, docs/ARCHITECTURE.md): no inverted tet,
+  /// every tet at or above quality_floor, no edge beyond the density
+  /// thresholds and every curved region within its acceptable error. Off:
+  /// always run the phases.
   bool skip_if_good = true;
   /// For benchmarks: the minimum stretch over the live tets after every step
   /// goes into PhasedOdtStats::quality_trace (one parallel pass over the

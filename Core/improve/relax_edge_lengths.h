@@ -55,8 +55,7 @@ OdtSmoothReport relax_edge_lengths(TetMesh& mesh, const DensityGrid& grid, const
 /// back (odt_smooth_surface with BoundarySmoothOptions::edge_density), so
 /// it stays on the fitted surface. Curve and corner vertices do not move.
 /// The inner vertices' relaxation cannot lengthen the surface edges, which
-/// Eq. 2.35 finds the furthest from the field (x3 benchmark: 0.19 against
-/// 0.14 inside).
+/// Eq. 2.35 finds the furthest from the field.
 OdtSmoothReport relax_surface_edge_lengths(TetMesh& mesh, const BoundaryGeometry& geometry, const DensityGrid& grid,
                                            const RelaxEdgeLengthsOptions& options);
 

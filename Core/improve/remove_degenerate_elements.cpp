@@ -283,9 +283,9 @@ class DegenerateRemover {
   DegenerateRemovalStats run() {
     DegenerateRemovalStats st;
     // Step 1: tets below gamma_st on a min-heap by stretch. The stretches
-    // are found in parallel (a serial scan took about 45 ms per call at 1M
-    // tets, seven calls per Phased ODT run); stretch and tet id order the
-    // heap totally, so its pops do not depend on how it was filled.
+    // are found in parallel (a scan of every tet, several times per Phased
+    // ODT run); stretch and tet id order the heap totally, so its pops do
+    // not depend on how it was filled.
     double qmin = std::numeric_limits<double>::infinity();
     std::vector<HeapEntry> targets;
     {

@@ -57,8 +57,8 @@ struct InvertedRemovalStats {
 /// slid past each other within a face) can stay, because a surface vertex may
 /// only be collapsed onto another vertex of its own face and a move must make
 /// its whole ball positive at once; they are listed in remaining_tets.
-/// Observed on a 5^3-cell cube with surface vertices slid by up to 0.99 cell
-/// per axis: 4 of 3587 inverted tets left in 3 of 90 meshes.
+/// They are rare: surface vertices slid by up to 0.99 cell per axis leave a
+/// few in a few meshes (test DegenerateRemoval.CaseCSweep bounds them).
 /// Deterministic.
 InvertedRemovalStats remove_inverted_elements(TetMesh& mesh, const InvertedRemovalOptions& options = {});
 

@@ -48,7 +48,7 @@ bool is_medit_keyword(std::string_view t) {
 
 /// Whitespace-separated tokens over the whole file in memory, skipping `#`
 /// comments and counting lines for the error messages. No allocation per
-/// token: this is what keeps a 56k-tet file well under a second.
+/// token.
 class Tokenizer {
  public:
   Tokenizer(const char* begin, const char* end) : p_(begin), end_(end) {}

@@ -1,6 +1,6 @@
 // The distinct edges of a tet mesh, sorted, in O(#tets): bucketed by their
-// smaller vertex (a counting sort), each bucket sorted on its own. About
-// five times faster than sorting the 6 #T edge keys globally.
+// smaller vertex (a counting sort), each bucket sorted on its own: faster
+// than sorting the 6 #T edge keys globally.
 #pragma once
 
 #include "common/types.h"

@@ -13,9 +13,9 @@ constexpr double kPi = 3.14159265358979323846;
 // S the sum of the face cross-product norms.
 const double kStretchScale = 2.0 * std::sqrt(6.0);
 
-// |u x v| with the components kept in registers. (cross().norm() let GCC
+// |u x v| with the components kept in registers. (cross().norm() lets GCC
 // store the three components one by one and reload two as a pair: a
-// store-forwarding stall that made stretch four times slower.)
+// store-forwarding stall in the stretch loop.)
 inline double cross_norm(const Vec3& u, const Vec3& v) {
   const double x = u.y() * v.z() - u.z() * v.y();
   const double y = u.z() * v.x() - u.x() * v.z();

@@ -1,6 +1,7 @@
 // The fixed-width rows of the RegionParameters and CurveParameters field
-// arrays (docs/ARCHITECTURE.md), so the fits the Segment filter writes reach Deform and
-// Improve through .vtu files and ParaView pipelines. Layouts: segmentation.h.
+// arrays (docs/ARCHITECTURE.md), so the fits the Segment filter writes reach
+// Improve (and Deform) through .vtu files and ParaView pipelines. Layouts:
+// segmentation.h.
 #include "segment/segmentation.h"
 
 #include <cmath>

@@ -118,8 +118,8 @@ class TetMesh;
 Status segment_boundary(const TetMesh& mesh, const SegmentationParams& params, SurfaceMesh& surface,
                         Segmentation& out, const SegmentationProgress& progress = {});
 
-/// Fixed-width rows of the RegionParameters field array (DESIGN.md), one per
-/// region, so Deform and Improve read the fits the Segment filter wrote:
+/// Fixed-width rows of the RegionParameters field array (docs/ARCHITECTURE.md),
+/// one per region, so Improve (and Deform) read the fits Segment wrote:
 ///   0-2 point, 3-5 axis, 6 radius, 7 minor_radius, 8 half_angle (rad),
 ///   9 convexity (Convexity), 10 fit_rms, 11 area
 constexpr int kRegionParameterWidth = 12;

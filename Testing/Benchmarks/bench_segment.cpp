@@ -1,8 +1,9 @@
-// Benchmark of FEMorph Segment (issue 3): per-step times like thesis Table
-// 2.9 for each Data/ part and for a fine part of about 200,000 boundary
-// triangles, triangles per second end to end, and, in the same command, the
-// peer: CGAL's Efficient RANSAC shape detection on the same boundary points
-// and normals, with its time and the primitives it finds against the truth.
+// Benchmark of FEMorph Segment (goals in docs/ARCHITECTURE.md): per-step
+// times like thesis Table 2.9 for each Data/ part and for a fine part of
+// about 200,000 boundary triangles, triangles per second end to end, and, in
+// the same command, the peer: CGAL's Efficient RANSAC shape detection on the
+// same boundary points and normals, with its time and the primitives it finds
+// against the truth.
 //
 //   build/bin/bench_segment [--repeats=5] [--fine-dir=DIR] [--no-fine] [--no-cgal]
 //

@@ -5,8 +5,8 @@
 //   build/bin/bench_tet_mesh [--cells=56] [google benchmark flags]
 //
 // Prints Google Benchmark's table (medians of 5 repetitions) and then a
-// summary with rates, the goals, bytes per tet and the ratio of each
-// step to the plain pass, all from the same run.
+// summary with rates, the goals (docs/ARCHITECTURE.md), bytes per tet and
+// the ratio of each step to the plain pass, all from the same run.
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
 #include "test_meshes.h"
@@ -178,7 +178,7 @@ int main(int argc, char** argv) {
   SummaryReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
 
-  // Summary: medians of the repetitions, the goals, and how many
+  // Summary: medians of the repetitions, the goals, and how many
   // plain passes over the arrays each step costs (rate of the bound / rate).
   const double bound = reporter.rate["BM_PlainPass"];
   struct Row {

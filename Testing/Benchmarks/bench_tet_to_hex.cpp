@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
   }
   std::printf("FEMorph Tet To Hex benchmark: %d threads, medians of %d runs\n\n", omp_get_max_threads(), runs);
 
-  // 1. The large grid: the goal is <= 10 s for about 1M tets.
+  // 1. The large grid: the goal is <= 10 s for about 1M tets.
   const testing::TestMesh big = testing::make_cube_mesh(cells, jitter, 7);
   const TetToHexParams defaults;
   const std::string label = std::to_string(cells) + "^3 hexes C+, jitter " + std::to_string(jitter).substr(0, 4);

@@ -36,12 +36,11 @@ namespace bench {
 // graded FE mesh, up to several percent of the diagonal on large planes
 // (cluster_epsilon larger), and fillets hold well under 1% of the points
 // (min_points smaller). Chosen by a sweep on the five Data/ parts, five seeds
-// each (bench_cgal_peer; 520 CAD faces in all): CGAL-like epsilon 0.002 and
-// normal_threshold 0.9 recovered 178 faces (right type, points mostly on the
-// face), 127 of them with sizes within 1%; these defaults recover 374 and
-// 251. cluster_epsilon 0.03-0.1, min_points 0.001-0.005, probability 0.01
-// and normal thresholds 0.98-0.998 change little (probability 0.01 costs
-// 2.5 times the time).
+// each (bench_cgal_peer): these defaults recover about twice as many CAD
+// faces as CGAL-like ones (epsilon 0.002, normal_threshold 0.9).
+// cluster_epsilon 0.03-0.1, min_points 0.001-0.005, probability 0.01 and
+// normal thresholds 0.98-0.998 change little (a lower probability costs
+// much more time).
 struct CgalRansacParameters {
   double probability = 0.05;
   double min_points_fraction = 0.002;  // of the number of points ...

@@ -8,10 +8,12 @@ with VTK's own reader, not through the filter):
   scaled Jacobian, Eq. 4.2:  min over corners of e1 . (e2 x e3) / (|e1||e2||e3|)
   dihedral angles:           pi - angle between the outward normals of two faces
 
-Optionally (--realparts DIR) also a real part in Medit format, read by a small
-parser here, to check the filter on a mesh made by someone else.
+With --realparts DIR, also the real parts in Medit format there, read by a
+small parser here, to check the filter on meshes made by someone else. An
+input asked for but missing (no .mesh file in DIR) makes the script exit with
+SKIP_CODE after checking the rest, so that ctest reports the test skipped.
 
-Usage: pvbatch test_mesh_quality.py --plugin FEMorph.so --data Data/*.vtu [--realparts DIR]
+Usage: pvbatch test_mesh_quality.py --plugin FEMorph.so [--data Data/*.vtu] [--realparts DIR]
 """
 import argparse
 import math
@@ -27,6 +29,7 @@ from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
 RTOL = 1e-9
+SKIP_CODE = 77  # the tests' SKIP_RETURN_CODE
 CELL_ARRAYS = ["Stretch", "ScaledJacobian", "MinDihedralAngle", "MaxDihedralAngle", "Inverted"]
 
 
@@ -191,9 +194,11 @@ def grid_from(points, tets):
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--plugin", required=True, help="path of FEMorph.so")
-    parser.add_argument("--data", required=True, nargs="+", help="tet .vtu files from Data/")
-    parser.add_argument("--realparts", help="folder with Medit .mesh parts (optional)")
+    parser.add_argument("--data", nargs="*", default=[], help="tet .vtu files from Data/")
+    parser.add_argument("--realparts", help="folder with Medit .mesh parts")
     args = parser.parse_args()
+    if not args.data and not args.realparts:
+        parser.error("nothing to check: give --data or --realparts")
 
     LoadPlugin(args.plugin, ns=globals())
 
@@ -210,10 +215,13 @@ def main():
         for threshold in (0.05, 0.3):
             check_quality(reader, points, tets, threshold, arrays)
 
-    if args.realparts and os.path.isdir(args.realparts):
-        for name in sorted(os.listdir(args.realparts)):
-            if not name.endswith(".mesh"):
-                continue
+    if args.realparts:
+        names = sorted(name for name in os.listdir(args.realparts)
+                       if name.endswith(".mesh")) if os.path.isdir(args.realparts) else []
+        if not names:
+            print("SKIPPED: no Medit .mesh part in %s" % args.realparts)
+            sys.exit(SKIP_CODE)
+        for name in names:
             print("%s:" % name)
             points, tets = read_medit(os.path.join(args.realparts, name))
             producer = servermanager.sources.PVTrivialProducer()

@@ -5,14 +5,14 @@ checks the three outputs against the part's construction in the .json next to
 it (written by Data/generate_parts.py from the CAD model; for a STEP file made
 by others, `generate_parts.py --step`, the faces' primitives and parameters
 come from fits of their nodes):
-  output 2 (table): the exact DESIGN.md columns; one row per CAD face, each
-      matched one-to-one to a face of the same type with its parameters
-      (radius, torus radii, cone half angle and apex, axes, plane normals),
-      convexity and area (when several regions match, e.g. two coaxial
-      cylinders of one radius or two unknown faces, the one holding most of
-      the face's triangles by the input's CADFace); NaN in the columns that
-      do not apply; neighbours symmetric; the triangle counts add up to the
-      boundary;
+  output 2 (table): exactly the columns of docs/ARCHITECTURE.md; one row per
+      CAD face, each matched one-to-one to a face of the same type with its
+      parameters (radius, torus radii, cone half angle and apex, axes, plane
+      normals), convexity and area (when several regions match, e.g. two
+      coaxial cylinders of one radius or two unknown faces, the one holding
+      most of the face's triangles by the input's CADFace); NaN in the
+      columns that do not apply; neighbours symmetric; the triangle counts
+      add up to the boundary;
   output 0 (mesh): FaceRegion on exactly the boundary faces, VertexClass,
       the field arrays (RegionType/RegionParameters agreeing with the table,
       curve arrays consistent, curves of the CAD model's types);
@@ -44,7 +44,7 @@ TYPE_CODES = {"plane": 0, "cylinder": 1, "cone": 2, "sphere": 3, "torus": 4, "un
 # Gmsh calls full circles and circular arcs "Circle".
 CURVE_CODES = {"Line": (0,), "Circle": (1, 2)}
 LINE, CIRCLE, CIRCULAR_ARC = 0, 1, 2
-# Which table columns apply to which type (DESIGN.md); the others are NaN.
+# Which table columns apply to which type (docs/ARCHITECTURE.md); the others are NaN.
 APPLIES = {
     "plane": {"Normal", "Point"},
     "cylinder": {"Radius", "Axis", "Center"},

@@ -279,9 +279,9 @@ void expect_valid_box(const CompactMesh& out, double factor) {
   EXPECT_GT(checked, 0u);
 }
 
-// The goal is the thesis' result (Table 2.14: 0.26 -> 0.15 on a
-// NETGEN mesh, density control inside Phased ODT smoothing). A Kuhn cube is
-// a poor reference for Eq. 2.35: its edges are h, h sqrt 2 and h sqrt 3
+// Improve's density goal, 0.15, is the thesis' result (Table 2.14: 0.26 ->
+// 0.15 on a NETGEN mesh, density control inside Phased ODT smoothing). A Kuhn
+// cube is a poor reference for Eq. 2.35: its edges are h, h sqrt 2 and h sqrt 3
 // while 1 / rho = 1.228 h (VertexDensityKuhnCubeClosedForm), so the
 // reference itself scores 0.193 (jitter 0.1, boundary included); the interior
 // limit is (3 * 0.2284 + 3 * 0.1314 + 0.2908) / 7 = 0.196 (per cell 3 axis,

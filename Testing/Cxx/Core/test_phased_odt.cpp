@@ -37,8 +37,9 @@ BoundaryGeometry cube_geometry() {
   return g;
 }
 
-/// Every inner vertex by up to 40% of its mean edge length (issue 5 (a));
-/// moves that would invert are refused by TetMesh.
+/// Every inner vertex by up to 40% of its mean edge length (Improve's
+/// acceptance case (a), docs/ARCHITECTURE.md); moves that would invert are
+/// refused by TetMesh.
 void jitter_inner(TetMesh& mesh, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -94,9 +95,9 @@ TEST(UniqueEdges, MatchesTheEdgesOfTheTets) {
   }
 }
 
-// Issue 5 (a) on a planar part: inner vertices jittered by 40%, the target
-// density the unjittered mesh's. The loop of Fig. 2.34 gives min stretch
-// >= 0.3, the faces stay on their planes, the volume is exact.
+// Acceptance case (a) on a planar part: inner vertices jittered by 40%, the
+// target density the unjittered mesh's. The loop of Fig. 2.34 gives min
+// stretch >= 0.3, the faces stay on their planes, the volume is exact.
 TEST(PhasedOdt, JitteredCubeReachesTheQualityGoal) {
   const testing::TestMesh m = testing::make_cube_mesh(8, 0.1, 5);
   TetMesh mesh = build(m);
@@ -130,7 +131,7 @@ TEST(PhasedOdt, JitteredCubeReachesTheQualityGoal) {
   }
 }
 
-// Issue 5, bad input: "input already perfect (no change, fast)". The
+// Acceptance case: an input already perfect is left as it is, fast. The
 // unjittered Kuhn cube against its own density: every tet at 0.3 or more,
 // no edge beyond the density thresholds. Left bit for bit as it is, in one
 // pass over the edges; jittered, the same mesh is worked on.
@@ -323,8 +324,8 @@ TEST(PhasedOdt, UnfittedRegionVerticesMoveOnTheirTriangles) {
 // edges and lengthens their chords; with the chord test of Phased ODT
 // (collapse_chords_within_error) no cylinder ends beyond its acceptable error
 // (here its error as given), without it they do.
-// Issue 5: mean density error (Eq. 2.35) <= 0.15 against the reference,
-// as the thesis' Fig. 2.53 (Netgen mesh, 0.26 -> 0.15). With a reference as
+// Improve's density goal: mean density error (Eq. 2.35) <= 0.15 against the
+// reference, as the thesis' Fig. 2.53 (Netgen mesh, 0.26 -> 0.15). With a reference as
 // uniform as that one (the BCC lattice box scores 0.08 against its own
 // field), a slab stretched x3 (0.23 after the stretch) and x1.6 ends at or
 // below 0.15; the mesh valid, min stretch >= 0.3, the box's planes and

@@ -1,8 +1,8 @@
-// Segmentation accuracy on the Data/ CAD parts (issue 3): every boundary
-// triangle lies in the region of its CAD face (faces of one primitive with
-// equal parameters count as one), every region has the CAD face's type, and
-// radii, axes, distances and angles match the construction within 1e-6
-// relative. The truth is the part's JSON, written from the construction by
+// Segmentation accuracy on the Data/ CAD parts (Segment's acceptance goals,
+// docs/ARCHITECTURE.md): every boundary triangle lies in the region of its
+// CAD face (faces of one primitive with equal parameters count as one), every
+// region has the CAD face's type, and radii, axes, distances and angles match
+// the construction within 1e-6 relative. The truth is the part's JSON, written from the construction by
 // Data/generate_parts.py; the CAD face of each tet face is the CADFace array.
 #include "vtkFEMorphMeshConversion.h"
 
@@ -156,7 +156,7 @@ Result segment(vtkUnstructuredGrid* grid, const femorph::SegmentationParams& par
   return r;
 }
 
-/// The issue's acceptance test for one part at relative accuracy `rel`.
+/// The acceptance test for one part at relative accuracy `rel`.
 void check_against_cad(const Part& part, const Result& r, double rel) {
   // CAD face -> regions and region -> CAD faces.
   std::map<int, std::map<femorph::index_t, int>> cad_regions;

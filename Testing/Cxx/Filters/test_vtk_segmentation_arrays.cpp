@@ -679,7 +679,7 @@ TEST_P(SegmentationArrays, RegionTable)
   vtkNew<vtkTable> table;
   ASSERT_TRUE(Arrays::WriteRegionTable(f.Segmentation, table));
 
-  // Exactly DESIGN.md's columns, in order, so scripts can rely on them.
+  // Exactly the columns of docs/ARCHITECTURE.md, in order, so scripts can rely on them.
   const std::vector<std::string> design = { "RegionId", "TypeName", "Radius", "MajorRadius",
     "MinorRadius", "HalfAngle", "Axis", "Center", "Apex", "Normal", "Point", "Area", "Convexity",
     "TriangleCount", "FitResidual", "Neighbors" };
