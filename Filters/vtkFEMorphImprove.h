@@ -47,12 +47,13 @@
  * without density control), `ImproveCounts` (splits, collapses, accuracy
  * splits, flips 2-3, 3-2, 4-4, surface flips, removed slivers, caps, spades,
  * repaired inverted tetrahedra, remaining inverted, moved vertices,
- * BelowFloor: tetrahedra left below stretch 0.3, BelowFloorAllBoundary: those
- * of them with all four vertices on the boundary -- their shape is that of
- * the boundary triangles, e.g. across a face much narrower than the mesh,
- * and a warning says so --, tets before and after, LeftAsItWas: 1 when the mesh needed nothing -- no
- * inverted tetrahedron, every stretch at 0.3 or more, no edge beyond the
- * density thresholds, every curved region within its acceptable error --
+ * BelowFloor: tetrahedra left below QualityFloor, BelowFloorAllBoundary:
+ * those of them with all four vertices on the boundary -- their shape is
+ * that of the boundary triangles, e.g. across a face much narrower than the
+ * mesh, and a warning says so --, tets before and after, LeftAsItWas: 1 when
+ * the mesh needed nothing -- no inverted tetrahedron, every stretch at
+ * QualityFloor or more, no edge beyond the density thresholds, every curved
+ * region within its acceptable error --
  * and is output unchanged), `ImproveTimes` (seconds: segmentation, curves,
  * surfaces, volume, total), `ImproveStepTimes` (the same time by step:
  * preparation, degenerate and inverted removal, density control, accuracy

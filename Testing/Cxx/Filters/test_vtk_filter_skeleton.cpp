@@ -19,6 +19,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <ostream>
 #include <string>
 
 using femorph_test::MakeGrid;
@@ -42,6 +43,12 @@ struct FilterCase
   /// warning: the filter skips cells it does not evaluate).
   bool RefusesTriangles;
 };
+
+// gtest prints a parameter in the test's name (ctest lists it): the row's.
+void PrintTo(const FilterCase& c, std::ostream* os)
+{
+  *os << c.Name;
+}
 
 template <class T>
 vtkSmartPointer<vtkFEMorphAlgorithm> Make()

@@ -1,5 +1,5 @@
-// FEMorph Improve (vtkFEMorphImprove) on the Data/ parts: the quality goals
-// of issue 5 on the inputs it names -- (a) inner vertices moved randomly by
+// FEMorph Improve (vtkFEMorphImprove) on the Data/ parts: the acceptance
+// cases of docs/ARCHITECTURE.md ("Goals the tests and benchmarks check") -- (a) inner vertices moved randomly by
 // up to 40% of the local edge length, (b) the boss's slab stretched x1.6 and
 // x3 along z (a boss-height change, thesis Fig. 2.53), (c) surface vertices
 // slid along their planes (inverted and flat tets) -- checked with the
@@ -343,7 +343,7 @@ void ExpectAccuracyKept(vtkUnstructuredGrid* out)
   }
 }
 
-/// The goals of issue 5 every case must meet: a valid output, the minimum
+/// The goals every case must meet (docs/ARCHITECTURE.md): a valid output, the minimum
 /// stretch reached, the mean stretch at least the undeformed mesh's, the
 /// points Improve placed on their fitted surfaces (1e-9 of the part's size)
 /// and every curved region's chord error within its acceptable error.
@@ -359,7 +359,7 @@ void ExpectGoals(const ImproveRun& run, vtkUnstructuredGrid* input, double minGo
 
 /// Eq. 2.35 of the undeformed mesh against its own density field: what a
 /// mesh generator's output scores (the Data parts score 0.15 to 0.19
-/// themselves; issue 5's goal for the improved mesh is 0.15).
+/// themselves; the goal for the improved mesh is 0.15).
 double OwnDensityError(vtkUnstructuredGrid* mesh)
 {
   vtkNew<vtkFEMorphImprove> improve;
@@ -431,12 +431,12 @@ TEST(Improve, BossHeightStretch3)
   vtkUnstructuredGrid* reference = boss.Reference;
   ImproveRun run = Improve(boss.Deformed, reference);
   ExpectGoals(run, boss.Deformed, 0.2, boss.UndeformedMean);
-  EXPECT_LE(Field(run.Output, "ImproveDensityError", "After"), 0.15);  // issue 5's goal
+  EXPECT_LE(Field(run.Output, "ImproveDensityError", "After"), 0.15);  // the goal of case (b)
   EXPECT_LT(Field(run.Output, "ImproveDensityError", "After"), OwnDensityError(reference));
   ExpectStepTimesAddUp(run.Output);
 }
 
-// PoorElementsOnly on issue 5 (b) x1.6: the poor tets repaired to the
+// PoorElementsOnly on case (b) x1.6: the poor tets repaired to the
 // case's goal, the rest of the mesh as it was (most points where they were,
 // about the same number of tets), no density target (NaN), and the same
 // checks as the phased loop's output: valid, points on their surfaces,
