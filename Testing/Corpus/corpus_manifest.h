@@ -16,6 +16,9 @@
 //               (silently accepting the damage is a failure), or -
 //   expect      the substrings those messages must contain, '|' separated,
 //               or -
+//   error_on    filters that must refuse the case with an error: the input
+//               is corrupt (point ids out of range, a cell with the wrong
+//               point count, NaN points...), so no output can be right, or -
 //   filters     the filters the case is run through ("all" or a list)
 //   timeout     seconds per (case, filter) before the child counts as hung
 //   reader      "ok": the reader must read the file without an error;
@@ -58,6 +61,7 @@ struct CaseEntry
   std::string ValidOn = "-";
   std::string ReportOn = "-";
   std::string Expect = "-";
+  std::string ErrorOn = "-";
   std::string Filters = "all";
   int Timeout = 30;
   std::string Reader = "ok";
@@ -103,15 +107,15 @@ inline bool ListHas(const std::string& list, const std::string& filter)
 
 inline void WriteManifestHeader(std::ostream& out)
 {
-  out << "#name\tfile\treference\tregion\tdamage\tvalid_on\treport_on\texpect\tfilters\ttimeout"
-         "\treader\tdescription\n";
+  out << "#name\tfile\treference\tregion\tdamage\tvalid_on\treport_on\texpect\terror_on\tfilters"
+         "\ttimeout\treader\tdescription\n";
 }
 
 inline void WriteManifestLine(std::ostream& out, const CaseEntry& c)
 {
   out << c.Name << '\t' << c.File << '\t' << c.Reference << '\t' << c.Region << '\t' << c.Damage
-      << '\t' << c.ValidOn << '\t' << c.ReportOn << '\t' << c.Expect << '\t' << c.Filters << '\t'
-      << c.Timeout << '\t' << c.Reader << '\t' << c.Description << '\n';
+      << '\t' << c.ValidOn << '\t' << c.ReportOn << '\t' << c.Expect << '\t' << c.ErrorOn << '\t'
+      << c.Filters << '\t' << c.Timeout << '\t' << c.Reader << '\t' << c.Description << '\n';
 }
 
 /// Reads the manifest at `path`; false with `error` set when a line is malformed.
@@ -139,10 +143,10 @@ inline bool ReadManifest(const std::string& path, std::vector<CaseEntry>& cases,
     {
       f.push_back(field);
     }
-    if (f.size() != 12)
+    if (f.size() != 13)
     {
       error = path + ":" + std::to_string(number) + ": " + std::to_string(f.size()) +
-        " columns instead of 12";
+        " columns instead of 13";
       return false;
     }
     CaseEntry c;
@@ -154,10 +158,11 @@ inline bool ReadManifest(const std::string& path, std::vector<CaseEntry>& cases,
     c.ValidOn = f[5];
     c.ReportOn = f[6];
     c.Expect = f[7];
-    c.Filters = f[8];
-    c.Timeout = std::stoi(f[9]);
-    c.Reader = f[10];
-    c.Description = f[11];
+    c.ErrorOn = f[8];
+    c.Filters = f[9];
+    c.Timeout = std::stoi(f[10]);
+    c.Reader = f[11];
+    c.Description = f[12];
     cases.push_back(c);
   }
   return true;

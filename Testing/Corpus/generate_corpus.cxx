@@ -1247,11 +1247,15 @@ void CellCases(Corpus& corpus, const Base& base, bool full)
   const vtkIdType n = base.Mesh->GetNumberOfCells();
   const vtkIdType np = base.Mesh->GetNumberOfPoints();
   const vtkIdType middle = n / 2;
+  bool corrupt = true;
   auto edited = [&](const std::string& what, const std::string& text,
                   const std::function<bool(vtkIdType, int&, std::vector<vtkIdType>&)>& edit) {
     Grid g = Copy(base.Mesh);
     EditCells(g, edit);
-    corpus.Add(On(base, "cell." + what, text), g);
+    CaseEntry c = On(base, "cell." + what, text);
+    // A cell whose points are not there or not a tetrahedron's: corrupt.
+    c.ErrorOn = corrupt ? "all" : "-";
+    corpus.Add(c, g);
   };
   auto pointId = [&](const std::string& what, vtkIdType id) {
     edited("point_id_" + what, "cell " + std::to_string(middle) + " refers to point " +
@@ -1310,6 +1314,8 @@ void CellCases(Corpus& corpus, const Base& base, bool full)
       }
       return true;
     });
+  // Well-formed cells of a broken mesh: a filter may repair or refuse them.
+  corrupt = false;
   edited("repeated_vertex", "a tetrahedron using one point twice",
     [&](vtkIdType c, int&, std::vector<vtkIdType>& pts) {
       if (c == middle)
@@ -1326,6 +1332,7 @@ void CellCases(Corpus& corpus, const Base& base, bool full)
       }
       return true;
     });
+  corrupt = true;
   edited("hexahedron_with_4_points", "a VTK_HEXAHEDRON with a tetrahedron's 4 points",
     [&](vtkIdType c, int& type, std::vector<vtkIdType>&) {
       if (c == middle)
@@ -1432,6 +1439,9 @@ void CellCases(Corpus& corpus, const Base& base, bool full)
 void PointCases(Corpus& corpus, const Base& base, bool full)
 {
   const vtkIdType p = InnerPoint(base.Mesh);
+  // NaN or infinite coordinates of used points: every filter documents
+  // them as an error.
+  bool corrupt = true;
   auto moved = [&](const std::string& what, const std::string& text,
                  const std::function<void(vtkPoints*)>& edit) {
     Grid g = Copy(base.Mesh);
@@ -1439,7 +1449,9 @@ void PointCases(Corpus& corpus, const Base& base, bool full)
     pts->DeepCopy(g->GetPoints());
     edit(pts);
     g->SetPoints(pts);
-    corpus.Add(On(base, "points." + what, text), g);
+    CaseEntry c = On(base, "points." + what, text);
+    c.ErrorOn = corrupt ? "all" : "-";
+    corpus.Add(c, g);
   };
   auto coordinate = [&](const std::string& what, int axis, double value) {
     moved(what, "point " + std::to_string(p) + " coordinate " + std::to_string(axis) + " = " +
@@ -1458,13 +1470,16 @@ void PointCases(Corpus& corpus, const Base& base, bool full)
   }
   coordinate("inf", 1, Inf);
   coordinate("neginf", 2, -Inf);
-  coordinate("huge", 0, 1e300);
   moved("all_nan", "every coordinate NaN", [](vtkPoints* pts) {
     for (vtkIdType i = 0; i < pts->GetNumberOfPoints(); ++i)
     {
       pts->SetPoint(i, NaN, NaN, NaN);
     }
   });
+  // Finite coordinates at the ends of double's range: a filter may work or
+  // refuse, but its output must be valid.
+  corrupt = false;
+  coordinate("huge", 0, 1e300);
   for (double s : { 1e300, 1e150, 1e-150, 1e-300 })
   {
     moved("scale_" + Tag(s), "coordinates scaled by " + Text(s), [s](vtkPoints* pts) {
@@ -1508,11 +1523,13 @@ void PointCases(Corpus& corpus, const Base& base, bool full)
     g->GetPointData()->Initialize();
     CaseEntry c = On(base, "points.zero_points", "cells and 0 points (ids all out of range)");
     c.Reader = "may-fail"; // no Points element in the file
+    c.ErrorOn = "all";
     corpus.Add(c, g);
   }
   {
     CaseEntry c = On(base, "points.no_points_array", "cells and no vtkPoints (in memory)");
     c.Damage = "drop-points";
+    c.ErrorOn = "all";
     corpus.Add(c, base.Mesh);
   }
   {
@@ -1905,6 +1922,7 @@ void HexCases(Corpus& corpus, const Base& base)
     corpus.Add(c, base.Mesh);
   }
   const vtkIdType middle = base.Mesh->GetNumberOfCells() / 2;
+  bool corrupt = true; // a cell that is not what its type says: only an error is right
   auto edited = [&](const std::string& what, const std::string& text,
                   const std::function<void(int&, std::vector<vtkIdType>&)>& edit) {
     Grid g = Copy(base.Mesh);
@@ -1915,7 +1933,9 @@ void HexCases(Corpus& corpus, const Base& base)
       }
       return true;
     });
-    corpus.Add(On(base, "cell." + what, text), g);
+    CaseEntry c = On(base, "cell." + what, text);
+    c.ErrorOn = corrupt ? "all" : "-";
+    corpus.Add(c, g);
   };
   const vtkIdType np = base.Mesh->GetNumberOfPoints();
   edited("point_id_far", "a hexahedron refers to point n + 1000000",
@@ -1926,6 +1946,7 @@ void HexCases(Corpus& corpus, const Base& base)
     [&](int&, std::vector<vtkIdType>& pts) { pts.pop_back(); });
   edited("hex_with_9_points", "a VTK_HEXAHEDRON with 9 points",
     [&](int&, std::vector<vtkIdType>& pts) { pts.push_back(pts[0]); });
+  corrupt = false; // well-formed cells of a broken mesh
   edited("inverted_hex", "a hexahedron with its top and bottom faces swapped",
     [&](int&, std::vector<vtkIdType>& pts) {
       std::rotate(pts.begin(), pts.begin() + 4, pts.end());
@@ -1939,6 +1960,7 @@ void HexCases(Corpus& corpus, const Base& base)
         pts[4 + k] = pts[k];
       }
     });
+  corrupt = true;
   edited("wedge_with_8_points", "a VTK_WEDGE with a hexahedron's 8 points",
     [&](int& type, std::vector<vtkIdType>&) { type = VTK_WEDGE; });
   {
@@ -1947,7 +1969,9 @@ void HexCases(Corpus& corpus, const Base& base)
     pts->DeepCopy(g->GetPoints());
     pts->SetPoint(np / 2, NaN, 0, 0);
     g->SetPoints(pts);
-    corpus.Add(On(base, "points.nan", "a NaN coordinate"), g);
+    CaseEntry c = On(base, "points.nan", "a NaN coordinate");
+    c.ErrorOn = "all";
+    corpus.Add(c, g);
   }
 }
 

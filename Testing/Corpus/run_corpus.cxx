@@ -91,6 +91,7 @@ enum Outcome
   InvalidOutput,// no error and an output that is not valid
   NotEmpty,     // an error, but the output is not empty
   RefusedValid, // an error on a case without a fault
+  AcceptedCorrupt, // no error on an input no output can be right for
   InputModified,// the input or the Reference changed
   NoMessage,    // the pipeline failed without an error from the filter
   CorpusError,  // the case could not be set up (reader error, bad recipe)
@@ -98,8 +99,8 @@ enum Outcome
 };
 
 const char* const OutcomeNames[NumOutcomes] = { "error", "valid", "crash", "hang", "sanitizer",
-  "silent", "unnamed", "invalid", "not-empty", "refused-valid", "modified", "no-message",
-  "corpus" };
+  "silent", "unnamed", "invalid", "not-empty", "refused-valid", "no-error", "modified",
+  "no-message", "corpus" };
 
 bool Passes(Outcome o)
 {
@@ -429,7 +430,80 @@ struct MeshRules
   bool ConsistentSign = false;  // tetrahedra all of one sign (zero allowed)
   bool RepeatedPointOk = false; // a cell may use a point twice
   bool Segmentation = false;    // FaceRegion and the field arrays must be consistent
+  bool FacesShared = false;     // no triangle in more than two tetrahedra
+  bool ClosedBoundary = false;  // every boundary edge in exactly two boundary triangles
 };
+
+/// Why the tetrahedra of `grid` do not fit together by `rules` (faces shared
+/// by more than two tetrahedra, an open or non-manifold boundary); empty
+/// when they do. Cells other than tetrahedra are ignored.
+std::string CheckConformity(vtkUnstructuredGrid* grid, const MeshRules& rules)
+{
+  using Triple = std::array<vtkIdType, 3>;
+  std::vector<Triple> faces;
+  faces.reserve(static_cast<std::size_t>(4 * grid->GetNumberOfCells()));
+  vtkIdType npts = 0;
+  const vtkIdType* pts = nullptr;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    if (grid->GetCellType(c) != VTK_TETRA)
+    {
+      continue;
+    }
+    grid->GetCellPoints(c, npts, pts);
+    for (int f = 0; f < 4; ++f)
+    {
+      Triple t = { pts[(f + 1) % 4], pts[(f + 2) % 4], pts[(f + 3) % 4] };
+      std::sort(t.begin(), t.end());
+      faces.push_back(t);
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  using Pair = std::array<vtkIdType, 2>;
+  std::vector<Pair> edges;
+  for (std::size_t i = 0; i < faces.size();)
+  {
+    std::size_t j = i;
+    while (j < faces.size() && faces[j] == faces[i])
+    {
+      ++j;
+    }
+    if (rules.FacesShared && j - i > 2)
+    {
+      return "the face (" + std::to_string(faces[i][0]) + ", " + std::to_string(faces[i][1]) +
+        ", " + std::to_string(faces[i][2]) + ") is in " + std::to_string(j - i) + " tetrahedra";
+    }
+    if (j - i == 1)
+    {
+      const Triple& t = faces[i];
+      edges.push_back({ t[0], t[1] });
+      edges.push_back({ t[0], t[2] });
+      edges.push_back({ t[1], t[2] });
+    }
+    i = j;
+  }
+  if (!rules.ClosedBoundary)
+  {
+    return "";
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();)
+  {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i])
+    {
+      ++j;
+    }
+    if (j - i != 2)
+    {
+      return "the boundary edge (" + std::to_string(edges[i][0]) + ", " +
+        std::to_string(edges[i][1]) + ") is in " + std::to_string(j - i) +
+        " boundary triangles (not a closed manifold boundary)";
+    }
+    i = j;
+  }
+  return "";
+}
 
 /// Why `grid` is not a valid mesh by `rules`; empty when it is.
 std::string CheckMesh(vtkUnstructuredGrid* grid, const MeshRules& rules)
@@ -531,6 +605,14 @@ std::string CheckMesh(vtkUnstructuredGrid* grid, const MeshRules& rules)
         return why.str();
       }
       sign = s;
+    }
+  }
+  if (rules.FacesShared || rules.ClosedBoundary)
+  {
+    why << CheckConformity(grid, rules);
+    if (!why.str().empty())
+    {
+      return why.str();
     }
   }
   if (!rules.Segmentation)
@@ -788,6 +870,8 @@ std::vector<FilterSpec> Filters()
       MeshRules rules;
       rules.Types = { VTK_TETRA };
       rules.ConsistentSign = true;
+      rules.FacesShared = true;
+      rules.ClosedBoundary = true;
       auto* grid = vtkUnstructuredGrid::SafeDownCast(run.Outputs[0]);
       rules.Segmentation = grid && grid->GetNumberOfCells() > 0;
       std::string why = CheckFirstOutput(run, rules);
@@ -820,6 +904,8 @@ std::vector<FilterSpec> Filters()
       MeshRules rules;
       rules.Types = { VTK_TETRA };
       rules.PositiveVolume = true;
+      rules.FacesShared = true;
+      rules.ClosedBoundary = true;
       auto* grid = vtkUnstructuredGrid::SafeDownCast(run.Outputs[0]);
       rules.Segmentation = grid && grid->GetCellData()->GetArray("FaceRegion") &&
         grid->GetFieldData()->GetArray("RegionType");
@@ -834,6 +920,7 @@ std::vector<FilterSpec> Filters()
       MeshRules rules;
       rules.Types = { VTK_TETRA };
       rules.PositiveVolume = true;
+      rules.FacesShared = true;
       return CheckFirstOutput(run, rules);
     } });
   filters.push_back({ "TetToHex",
@@ -1089,6 +1176,7 @@ ChildResult RunOne(const std::string& folder, const CaseEntry& c, const FilterSp
   all.insert(all.end(), run.Warnings.begin(), run.Warnings.end());
   const bool mustReport = ListHas(c.ReportOn, filter.Name);
   const bool mustAccept = ListHas(c.ValidOn, filter.Name);
+  const bool mustRefuse = ListHas(c.ErrorOn, filter.Name);
   const std::vector<std::string> expect = SplitList(c.Expect, '|');
   std::string missing;
   const bool named = !mustReport || ContainsAll(all, expect, missing);
@@ -1134,6 +1222,13 @@ ChildResult RunOne(const std::string& folder, const CaseEntry& c, const FilterSp
     result.What = NoMessage;
     result.Reason = "the filter failed without an error message" +
       (run.PipelineErrors.empty() ? std::string() : ": " + MessageText(run.PipelineErrors.front()));
+    return result;
+  }
+  if (mustRefuse)
+  {
+    result.What = AcceptedCorrupt;
+    result.Reason = "no error on a corrupt input (" + c.Description + ")" +
+      (run.Warnings.empty() ? std::string() : "; warning: " + MessageText(run.Warnings.front()));
     return result;
   }
   std::string why = filter.Check(input, run);
