@@ -475,6 +475,14 @@ public:
   /// Writes `grid` as <name>.vtu and records the case.
   void Add(CaseEntry c, vtkUnstructuredGrid* grid)
   {
+    for (char& ch : c.Name)
+    {
+      // Names are file names and single tokens of known_failures.txt.
+      if (ch == ' ' || ch == '/' || ch == '\t')
+      {
+        ch = '_';
+      }
+    }
     c.File = c.Name + ".vtu";
     this->Write(grid, c.File);
     for (const CaseEntry& other : this->Cases)
