@@ -43,14 +43,6 @@
 namespace femorph_corpus
 {
 
-/// The filters of the corpus run, by the names used in the manifest.
-inline const std::vector<std::string>& FilterNames()
-{
-  static const std::vector<std::string> names = { "MeshQuality", "Segment", "Improve",
-    "HexToTet", "TetToHex" };
-  return names;
-}
-
 struct CaseEntry
 {
   std::string Name;

@@ -1757,6 +1757,26 @@ int main(int argc, char* argv[])
 
   const auto start = Clock::now();
   const std::vector<FilterSpec> filters = Filters();
+  // Every filter a case names must be in the table (a typo would silently
+  // drop an expectation).
+  for (const CaseEntry& c : cases)
+  {
+    for (const std::string& list : { c.ValidOn, c.ReportOn, c.ErrorOn, c.Filters })
+    {
+      for (const std::string& name : SplitList(list, ','))
+      {
+        const bool known = name == "all" ||
+          std::any_of(filters.begin(), filters.end(),
+            [&](const FilterSpec& f) { return f.Name == name; });
+        if (!known)
+        {
+          std::cerr << "run_corpus: case " << c.Name << " names the filter '" << name
+                    << "', which is not in the runner's table\n";
+          return 2;
+        }
+      }
+    }
+  }
   std::vector<Job> jobs;
   if (RunAll(options, cases, filters, jobs) != 0)
   {
