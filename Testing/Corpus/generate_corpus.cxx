@@ -1580,11 +1580,19 @@ void PassThroughArrayCases(Corpus& corpus, const Base& base, bool full)
     temperature->SetValue(i, 20.0 + i % 7);
   }
   g->GetPointData()->AddArray(temperature);
+  // A filter that copies cell or point data reads these arrays: one whose
+  // length is not the cell or point count must be reported (an error, or a
+  // warning and the array left out of a valid output).
   auto add = [&](const std::string& what, const std::string& text, const std::string& damage,
                const std::string& validOn) {
     CaseEntry c = On(base, what, text);
     c.Damage = damage;
     c.ValidOn = validOn;
+    if (damage != "-")
+    {
+      c.ReportOn = "all";
+      c.Expect = what.substr(0, what.find('.'));
+    }
     corpus.Add(c, g);
   };
   add("Material.short", "cell array Material truncated to 1 tuple (in memory)",
