@@ -77,6 +77,21 @@ Grid Copy(vtkUnstructuredGrid* grid)
   return copy;
 }
 
+/// A copy of `grid`'s points in their own precision (vtkPoints::DeepCopy into
+/// a new vtkPoints would convert them to float and lose 1e-300 and 1e300).
+vtkSmartPointer<vtkPoints> CopyPoints(vtkUnstructuredGrid* grid)
+{
+  auto copy = vtkSmartPointer<vtkPoints>::New();
+  copy->SetDataType(grid->GetPoints()->GetDataType());
+  copy->DeepCopy(grid->GetPoints());
+  if (copy->GetDataType() != VTK_DOUBLE)
+  {
+    std::cerr << "generate_corpus: the bases' points must be double\n";
+    std::exit(1);
+  }
+  return copy;
+}
+
 Grid MakeGrid(const std::vector<std::array<double, 3>>& points,
   const std::vector<std::pair<int, std::vector<vtkIdType>>>& cells)
 {
@@ -1453,8 +1468,7 @@ void PointCases(Corpus& corpus, const Base& base, bool full)
   auto moved = [&](const std::string& what, const std::string& text,
                  const std::function<void(vtkPoints*)>& edit) {
     Grid g = Copy(base.Mesh);
-    vtkNew<vtkPoints> pts;
-    pts->DeepCopy(g->GetPoints());
+    vtkSmartPointer<vtkPoints> pts = CopyPoints(g);
     edit(pts);
     g->SetPoints(pts);
     CaseEntry c = On(base, "points." + what, text);
@@ -1510,15 +1524,12 @@ void PointCases(Corpus& corpus, const Base& base, bool full)
     });
   {
     Grid g = Copy(base.Mesh);
-    vtkNew<vtkPoints> pts;
-    pts->SetDataTypeToFloat();
-    pts->DeepCopy(g->GetPoints());
     vtkNew<vtkPoints> floats;
     floats->SetDataTypeToFloat();
-    floats->SetNumberOfPoints(pts->GetNumberOfPoints());
-    for (vtkIdType i = 0; i < pts->GetNumberOfPoints(); ++i)
+    floats->SetNumberOfPoints(g->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < g->GetNumberOfPoints(); ++i)
     {
-      floats->SetPoint(i, pts->GetPoint(i));
+      floats->SetPoint(i, g->GetPoint(i));
     }
     g->SetPoints(floats);
     CaseEntry c = On(base, "points.float", "single-precision points (no fault)");
@@ -1669,8 +1680,7 @@ void TopologyCases(Corpus& corpus, const Base& base, bool full)
   auto movePoint = [&](const std::string& what, const std::string& text, double dx, double dy,
                      double dz) {
     Grid g = Copy(base.Mesh);
-    vtkNew<vtkPoints> pts;
-    pts->DeepCopy(g->GetPoints());
+    vtkSmartPointer<vtkPoints> pts = CopyPoints(g);
     double q[3];
     pts->GetPoint(inner, q);
     pts->SetPoint(inner, q[0] + dx, q[1] + dy, q[2] + dz);
@@ -1684,8 +1694,7 @@ void TopologyCases(Corpus& corpus, const Base& base, bool full)
     Grid g = Copy(base.Mesh);
     vtkNew<vtkIdList> ids;
     g->GetCellPoints(middle, ids);
-    vtkNew<vtkPoints> pts;
-    pts->DeepCopy(g->GetPoints());
+    vtkSmartPointer<vtkPoints> pts = CopyPoints(g);
     double a[3], b[3], c[3], d[3];
     pts->GetPoint(ids->GetId(0), a);
     pts->GetPoint(ids->GetId(1), b);
@@ -1704,8 +1713,7 @@ void TopologyCases(Corpus& corpus, const Base& base, bool full)
   }
   {
     Grid g = Copy(base.Mesh);
-    vtkNew<vtkPoints> pts;
-    pts->DeepCopy(g->GetPoints());
+    vtkSmartPointer<vtkPoints> pts = CopyPoints(g);
     for (vtkIdType i = 0; i < pts->GetNumberOfPoints(); ++i)
     {
       double q[3];
@@ -1747,8 +1755,7 @@ void TopologyCases(Corpus& corpus, const Base& base, bool full)
       g);
     // The same with the second copy moved away: two parts (no fault).
     Grid h = Copy(g);
-    vtkNew<vtkPoints> pts;
-    pts->DeepCopy(h->GetPoints());
+    vtkSmartPointer<vtkPoints> pts = CopyPoints(h);
     for (vtkIdType i = np; i < pts->GetNumberOfPoints(); ++i)
     {
       double q[3];
@@ -1841,8 +1848,7 @@ void TopologyCases(Corpus& corpus, const Base& base, bool full)
     Grid g = Copy(base.Mesh);
     vtkNew<vtkIdList> ids;
     g->GetCellPoints(middle, ids);
-    vtkNew<vtkPoints> pts;
-    pts->DeepCopy(g->GetPoints());
+    vtkSmartPointer<vtkPoints> pts = CopyPoints(g);
     double a[3], b[3], c[3], d[3];
     pts->GetPoint(ids->GetId(0), a);
     pts->GetPoint(ids->GetId(1), b);
@@ -1981,8 +1987,7 @@ void HexCases(Corpus& corpus, const Base& base)
     [&](int& type, std::vector<vtkIdType>&) { type = VTK_WEDGE; });
   {
     Grid g = Copy(base.Mesh);
-    vtkNew<vtkPoints> pts;
-    pts->DeepCopy(g->GetPoints());
+    vtkSmartPointer<vtkPoints> pts = CopyPoints(g);
     pts->SetPoint(np / 2, NaN, 0, 0);
     g->SetPoints(pts);
     CaseEntry c = On(base, "points.nan", "a NaN coordinate");
