@@ -6,7 +6,8 @@
 # (Testing/Corpus). Then builds the test executables again with
 # AddressSanitizer and UndefinedBehaviorSanitizer (build-asan/: the core, the
 # filters module and their tests, the corpus; not the ParaView plugin) and
-# runs them, all but the Python tests (pvbatch is not instrumented). Exits
+# runs them, all but the Python and Install tests (pvbatch and pvpython are
+# not instrumented). Exits
 # non-zero when a build or any test fails.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
@@ -27,10 +28,11 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DFEMORPH_BUILD_PLUGIN=ON -DFEMORPH_BUILD_TESTING=ON -DFEMORPH_BUILD_BENCHMARKS=OFF \
   -DFEMORPH_SANITIZE=ON
 # The test executables only (Testing/Corpus/CMakeLists.txt): the ParaView
-# plugin library is not built, and the Python tests that load it into pvbatch
-# are left out by their label.
+# plugin library is not built, and the tests that load it into pvbatch or
+# pvpython (labels Python and Install) are left out: those are not
+# instrumented.
 cmake --build build-asan -j"$jobs" --target femorph_tests_without_plugin
-(cd build-asan && ctest --output-on-failure -j"$jobs" --timeout 3600 -LE Python) || status=1
+(cd build-asan && ctest --output-on-failure -j"$jobs" --timeout 3600 -LE "Python|Install") || status=1
 
 if [[ $status -ne 0 ]]; then
   echo "=== FAILED: see the ctest output above"
