@@ -8,11 +8,13 @@
 #include <malloc.h>
 #endif
 
+#if FEMORPH_TUNE_GLIBC_MALLOC
 namespace
 {
 std::mutex ScopeMutex;
 int OpenScopes = 0; // nested or concurrent filters: the last one restores
 }
+#endif
 
 vtkFEMorphHeapReuse::vtkFEMorphHeapReuse()
 {

@@ -394,6 +394,12 @@ bool vtkFEMorphImprove::Execute(
     {
       return false;
     }
+    const femorph::Status valid = femorph::check_reference_mesh(referenceMesh);
+    if (!valid)
+    {
+      this->Fail("the Reference input is not a valid mesh: " + valid.message + ".");
+      return false;
+    }
     vtkFEMorphSegmentationArrays::MeshSegmentation refSeg;
     if (haveSegmentation && vtkFEMorphSegmentationArrays::HasSegmentation(reference))
     {
@@ -455,6 +461,28 @@ bool vtkFEMorphImprove::Execute(
       Centres(mesh, stats.remaining_inverted) +
       "). Turn RequireValid off to get the mesh with them marked in the 'Inverted' cell array.");
     return false;
+  }
+  // Zero-volume tets no operation could remove (a flat input): the output
+  // would be no valid mesh. Only a zero minimum stretch can mean one.
+  std::vector<femorph::index_t> flat;
+  for (femorph::index_t t = 0; !(stats.min_stretch_after > 0) && t < mesh.tet_slots(); ++t)
+  {
+    if (mesh.tet_alive(t) && mesh.orientation(t) == 0)
+    {
+      flat.push_back(t);
+    }
+  }
+  if (!flat.empty())
+  {
+    const std::string what = Plural(flat.size(), "tetrahedron has", "tetrahedra have") +
+      " zero volume and could not be removed (centres " + Centres(mesh, flat) +
+      "): the input is flat there";
+    if (this->RequireValid)
+    {
+      this->Fail(what + ". Turn RequireValid off to get the mesh with them (Stretch 0).");
+      return false;
+    }
+    this->Warn(what + "; they have Stretch 0.");
   }
 
   this->Progress(0.95, "writing the output");

@@ -272,9 +272,11 @@ public:
 
   ///@{
   /**
-   * When inverted tetrahedra remain that no local operation could repair:
-   * fail with an error naming how many and where (on, default), or output
-   * the mesh with them marked in the `Inverted` cell array and a warning.
+   * When inverted or zero-volume tetrahedra remain that no local operation
+   * could repair (a tangled or flat input): fail with an error naming how
+   * many and where (on, default), or output the mesh with them (inverted
+   * ones marked in the `Inverted` cell array, flat ones with Stretch 0) and
+   * a warning.
    */
   vtkSetMacro(RequireValid, vtkTypeBool);
   vtkGetMacro(RequireValid, vtkTypeBool);

@@ -24,6 +24,83 @@ namespace
 {
 // The core numbers vertices and tets with 32-bit ids.
 constexpr vtkIdType MaxCoreIndex = std::numeric_limits<femorph::index_t>::max();
+
+constexpr int UnknownCellType = -2;
+
+/// The number of points of a VTK cell type with a fixed one, -1 for types
+/// with any number (polygons, polyhedra, Lagrange and Bezier cells...),
+/// UnknownCellType for a number that is no VTK cell type.
+int PointsOfCellType(int type)
+{
+  switch (type)
+  {
+    case VTK_EMPTY_CELL: return 0;
+    case VTK_VERTEX: return 1;
+    case VTK_LINE: return 2;
+    case VTK_TRIANGLE: return 3;
+    case VTK_PIXEL:
+    case VTK_QUAD:
+    case VTK_TETRA: return 4;
+    case VTK_PYRAMID: return 5;
+    case VTK_WEDGE: return 6;
+    case VTK_VOXEL:
+    case VTK_HEXAHEDRON: return 8;
+    case VTK_PENTAGONAL_PRISM: return 10;
+    case VTK_HEXAGONAL_PRISM: return 12;
+    case VTK_QUADRATIC_EDGE: return 3;
+    case VTK_QUADRATIC_TRIANGLE: return 6;
+    case VTK_QUADRATIC_QUAD: return 8;
+    case VTK_QUADRATIC_TETRA: return 10;
+    case VTK_QUADRATIC_HEXAHEDRON: return 20;
+    case VTK_QUADRATIC_WEDGE: return 15;
+    case VTK_QUADRATIC_PYRAMID: return 13;
+    case VTK_BIQUADRATIC_QUAD: return 9;
+    case VTK_TRIQUADRATIC_HEXAHEDRON: return 27;
+    case VTK_TRIQUADRATIC_PYRAMID: return 19;
+    case VTK_QUADRATIC_LINEAR_QUAD: return 6;
+    case VTK_QUADRATIC_LINEAR_WEDGE: return 12;
+    case VTK_BIQUADRATIC_QUADRATIC_WEDGE: return 18;
+    case VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON: return 24;
+    case VTK_BIQUADRATIC_TRIANGLE: return 7;
+    case VTK_CUBIC_LINE: return 4;
+    case VTK_POLY_VERTEX:
+    case VTK_POLY_LINE:
+    case VTK_TRIANGLE_STRIP:
+    case VTK_POLYGON:
+    case VTK_QUADRATIC_POLYGON:
+    case VTK_CONVEX_POINT_SET:
+    case VTK_POLYHEDRON:
+    case VTK_PARAMETRIC_CURVE:
+    case VTK_PARAMETRIC_SURFACE:
+    case VTK_PARAMETRIC_TRI_SURFACE:
+    case VTK_PARAMETRIC_QUAD_SURFACE:
+    case VTK_PARAMETRIC_TETRA_REGION:
+    case VTK_PARAMETRIC_HEX_REGION:
+    case VTK_HIGHER_ORDER_EDGE:
+    case VTK_HIGHER_ORDER_TRIANGLE:
+    case VTK_HIGHER_ORDER_QUAD:
+    case VTK_HIGHER_ORDER_POLYGON:
+    case VTK_HIGHER_ORDER_TETRAHEDRON:
+    case VTK_HIGHER_ORDER_WEDGE:
+    case VTK_HIGHER_ORDER_PYRAMID:
+    case VTK_HIGHER_ORDER_HEXAHEDRON:
+    case VTK_LAGRANGE_CURVE:
+    case VTK_LAGRANGE_TRIANGLE:
+    case VTK_LAGRANGE_QUADRILATERAL:
+    case VTK_LAGRANGE_TETRAHEDRON:
+    case VTK_LAGRANGE_HEXAHEDRON:
+    case VTK_LAGRANGE_WEDGE:
+    case VTK_LAGRANGE_PYRAMID:
+    case VTK_BEZIER_CURVE:
+    case VTK_BEZIER_TRIANGLE:
+    case VTK_BEZIER_QUADRILATERAL:
+    case VTK_BEZIER_TETRAHEDRON:
+    case VTK_BEZIER_HEXAHEDRON:
+    case VTK_BEZIER_WEDGE:
+    case VTK_BEZIER_PYRAMID: return -1;
+    default: return UnknownCellType;
+  }
+}
 }
 
 //------------------------------------------------------------------------------
@@ -213,7 +290,8 @@ std::string vtkFEMorphMeshConversion::CheckGrid(
   }
 
   // Attribute arrays are copied and interpolated tuple by tuple: a short
-  // one would be read past its end.
+  // one would be read past its end, a long one passed on to a mesh it does
+  // not fit.
   for (int kind = 0; kind < 2; ++kind)
   {
     vtkDataSetAttributes* data = kind == 0
@@ -223,7 +301,7 @@ std::string vtkFEMorphMeshConversion::CheckGrid(
     for (int a = 0; a < data->GetNumberOfArrays(); ++a)
     {
       vtkAbstractArray* array = data->GetAbstractArray(a);
-      if (array && array->GetNumberOfTuples() < expected)
+      if (array && array->GetNumberOfTuples() != expected)
       {
         const char* name = array->GetName();
         return std::string(kind == 0 ? "the point array '" : "the cell array '") +
@@ -231,7 +309,7 @@ std::string vtkFEMorphMeshConversion::CheckGrid(
           std::to_string(array->GetNumberOfTuples()) +
           (array->GetNumberOfTuples() == 1 ? " value for " : " values for ") +
           std::to_string(expected) + (kind == 0 ? " points" : " cells") +
-          "; the file is corrupt (remove the array or fix its length).";
+          "; the data is corrupt (remove the array or fix its length).";
       }
     }
   }
@@ -244,15 +322,11 @@ std::string vtkFEMorphMeshConversion::CheckGrid(
   {
     const int type = grid->GetCellType(c);
     grid->GetCellPoints(c, npts, pts);
-    int expected = -1;
-    switch (type)
+    const int expected = PointsOfCellType(type);
+    if (expected == UnknownCellType)
     {
-      case VTK_TETRA: expected = 4; break;
-      case VTK_PYRAMID: expected = 5; break;
-      case VTK_WEDGE: expected = 6; break;
-      case VTK_HEXAHEDRON:
-      case VTK_VOXEL: expected = 8; break;
-      default: break;
+      return "cell " + std::to_string(c) + " of " + gridName + " has the type " +
+        std::to_string(type) + ", which is no VTK cell type; the file is corrupt.";
     }
     if (expected >= 0 && npts != expected)
     {

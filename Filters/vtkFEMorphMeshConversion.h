@@ -7,8 +7,8 @@
  * same in every filter:
  *
  * - CheckGrid() is the one set of input checks (points present and finite,
- *   the cell types a filter reads, attribute arrays as long as the points or
- *   cells, the point count of every cell, point ids
+ *   the cell types a filter reads, attribute arrays exactly as long as the
+ *   points or cells, the point count of every cell, point ids
  *   in range, sizes within the core's 32-bit ids). The readers below expect
  *   a grid that passed it (ToTetMesh() checks again: tests call it alone).
  * - ReadPoints(), ReadTetGrid(), ReadLinearCells() copy the geometry into
@@ -79,8 +79,9 @@ public:
   /**
    * The input checks every filter makes, in this order: points present when
    * there are cells; sizes within the core's ids; finite coordinates; cell
-   * types in `cells`; no point or cell array shorter than the points or
-   * cells; every cell of a known linear type with its number of points;
+   * types in `cells`; every point and cell array as long as the points or
+   * cells; every cell of a VTK type (a number that is none is an error)
+   * with the number of points its type has, when the type has a fixed one;
    * point ids in range. Returns an empty string when the grid
    * passes, else the message, naming the grid as `gridName` (e.g. "the
    * Reference input").

@@ -19,7 +19,8 @@
  *
  * Output 0 ("Mesh"): a shallow copy of the input (the input is never
  * modified) with the arrays of docs/ARCHITECTURE.md, written by
- * vtkFEMorphSegmentationArrays:
+ * vtkFEMorphSegmentationArrays (the input's own segmentation arrays, if
+ * any, are not read: they are replaced):
  * - cell data `FaceRegion` (int, 4 components: region of the face opposite
  *   local vertex i, -1 interior), point data `VertexClass` (unsigned char:
  *   0 inner, 1 surface, 2 curve, 3 corner);

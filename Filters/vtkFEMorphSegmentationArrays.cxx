@@ -19,6 +19,7 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <initializer_list>
@@ -54,6 +55,50 @@ std::string Num(double v)
   std::ostringstream os;
   os << v;
   return os.str();
+}
+
+/// The length of the grid's bounding-box diagonal.
+double Diagonal(vtkUnstructuredGrid* mesh)
+{
+  double b[6];
+  mesh->GetBounds(b);
+  return std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+    (b[5] - b[4]) * (b[5] - b[4]));
+}
+
+/// What makes a fitted surface unusable, e.g. "the radius -1 (a cylinder
+/// needs a positive radius)"; empty when it is a surface. `diagonal`: the
+/// part's size; a radius or distance a million times larger is no fit of it.
+std::string SurfaceProblem(const femorph::SurfacePrimitive& s, double diagonal)
+{
+  using femorph::SurfaceType;
+  if (s.type == SurfaceType::Unknown)
+  {
+    return std::string();
+  }
+  const double far = 1e6 * std::max(diagonal, std::numeric_limits<double>::min());
+  const bool hasAxis = s.type != SurfaceType::Sphere;
+  if (hasAxis && std::abs(s.axis.norm() - 1) > 1e-3)
+  {
+    return "the axis (" + Num(s.axis.x()) + ", " + Num(s.axis.y()) + ", " + Num(s.axis.z()) +
+      ") (a unit vector is needed)";
+  }
+  const bool hasRadius = s.type == SurfaceType::Cylinder || s.type == SurfaceType::Sphere ||
+    s.type == SurfaceType::Torus;
+  if (hasRadius && !(s.radius > 0 && s.radius < far))
+  {
+    return "the radius " + Num(s.radius) + " (a positive radius below 1e6 times the part's size " +
+      "is needed)";
+  }
+  if (s.type == SurfaceType::Torus && !(s.minor_radius > 0 && s.minor_radius < far))
+  {
+    return "the minor radius " + Num(s.minor_radius) + " (a positive radius is needed)";
+  }
+  if (s.type == SurfaceType::Cone && !(s.half_angle > 0 && s.half_angle < femorph::kPi / 2))
+  {
+    return "the half angle " + Num(s.half_angle) + " rad (it must lie in (0, pi / 2))";
+  }
+  return std::string();
 }
 
 // Local index (0..3) in `cell` of the vertex opposite the triangle whose
@@ -563,10 +608,12 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
   vtkUnstructuredGrid* mesh, MeshSegmentation& out, const std::string& gridName)
 {
   out = MeshSegmentation();
+  // Every message names the grid (the input, the Reference input...).
   auto fail = [&](const std::string& what) {
     out = MeshSegmentation();
     return Status::failure(what + " Run FEMorph Segment on the mesh first (and keep its arrays).");
   };
+  const std::string of = " of " + gridName;
   if (!mesh)
   {
     return fail("there is no mesh.");
@@ -577,8 +624,9 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
 
   // A numeric array of the expected shape, or a message saying why not.
   std::string problem;
+  // `countedBy`: the array whose length gives `tuples`, for the message.
   auto numeric = [&](vtkFieldData* data, const char* kind, const char* name, int components,
-                   vtkIdType tuples) -> vtkDataArray* {
+                   vtkIdType tuples, const char* countedBy = nullptr) -> vtkDataArray* {
     vtkAbstractArray* a = data->GetAbstractArray(name);
     if (!a)
     {
@@ -588,26 +636,29 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
     vtkDataArray* d = vtkDataArray::SafeDownCast(a);
     if (!d)
     {
-      problem = std::string("the ") + kind + " array " + name + " is not numeric.";
+      problem = std::string("the ") + kind + " array " + name + of + " is not numeric.";
       return nullptr;
     }
     if (d->GetNumberOfComponents() != components)
     {
-      problem = std::string("the ") + kind + " array " + name + " has " +
+      problem = std::string("the ") + kind + " array " + name + of + " has " +
         Str(d->GetNumberOfComponents()) + " components instead of " + Str(components) + ".";
       return nullptr;
     }
     if (tuples >= 0 && d->GetNumberOfTuples() != tuples)
     {
-      problem = std::string("the ") + kind + " array " + name + " has " +
-        Str(d->GetNumberOfTuples()) + " values instead of " + Str(tuples) + ".";
+      problem = std::string("the ") + kind + " array " + name + of + " has " +
+        Str(d->GetNumberOfTuples()) + " values instead of " + Str(tuples) +
+        (countedBy ? std::string(" (as many as ") + countedBy + " has)" : std::string()) + ".";
       return nullptr;
     }
     return d;
   };
   // Whole numbers in [lo, hi] in every component, or a message.
+  // `why` (may be empty) says where the range comes from.
   auto integers = [&](vtkDataArray* d, long long lo, long long hi,
-                    const std::function<void(vtkIdType, int, long long)>& store) {
+                    const std::function<void(vtkIdType, int, long long)>& store,
+                    const std::string& why = std::string()) {
     const int nc = d->GetNumberOfComponents();
     for (vtkIdType i = 0; i < d->GetNumberOfTuples(); ++i)
     {
@@ -618,10 +669,11 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
         {
           std::ostringstream value;
           value << d->GetComponent(i, k);
-          problem = std::string("the array ") + d->GetName() + " has the value " + value.str() +
+          problem = std::string("the array ") + d->GetName() + of + " has the value " + value.str() +
             " at " + Str(i) +
             (nc > 1 ? ", component " + Str(k) : std::string()) + " (expected a whole number in [" +
-            std::to_string(lo) + ", " + std::to_string(hi) + "]).";
+            std::to_string(lo) + ", " + std::to_string(hi) + "]" + (why.empty() ? "" : ", " + why) +
+            ").";
           return false;
         }
         store(i, k, v);
@@ -639,7 +691,7 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
       {
         if (!std::isfinite(d->GetComponent(i, k)))
         {
-          problem = std::string("the array ") + d->GetName() + " has a NaN or infinite value at " +
+          problem = std::string("the array ") + d->GetName() + of + " has a NaN or infinite value at " +
             Str(i) + ", component " + Str(k) + ".";
           return false;
         }
@@ -652,13 +704,18 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
   vtkDataArray* regionType = numeric(fd, "field", RegionTypeName, 1, -1);
   if (!regionType)
   {
+    if (mesh->GetCellData()->GetAbstractArray(FaceRegionName) && !fd->GetAbstractArray(RegionTypeName))
+    {
+      problem = gridName + " has the cell array " + FaceRegionName + " but no field array " +
+        RegionTypeName + " (the regions it names).";
+    }
     return fail(problem);
   }
   const vtkIdType nr = regionType->GetNumberOfTuples();
   vtkDataArray* regionParameters =
-    numeric(fd, "field", RegionParametersName, femorph::kRegionParameterWidth, nr);
+    numeric(fd, "field", RegionParametersName, femorph::kRegionParameterWidth, nr, RegionTypeName);
   vtkDataArray* regionConvexity = regionParameters
-    ? numeric(fd, "field", RegionConvexityName, 1, nr)
+    ? numeric(fd, "field", RegionConvexityName, 1, nr, RegionTypeName)
     : nullptr;
   if (!regionParameters || !regionConvexity)
   {
@@ -687,6 +744,12 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
     regionParameters->GetTuple(r, out.RegionParameters[r].data());
     out.RegionSurfaces[r] =
       femorph::unpack_region_surface(out.RegionTypes[r], out.RegionParameters[r].data());
+    const std::string bad = SurfaceProblem(out.RegionSurfaces[r], Diagonal(mesh));
+    if (!bad.empty())
+    {
+      return fail(std::string("the array ") + RegionParametersName + of + " gives region " +
+        Str(r) + " (" + femorph::to_string(out.RegionTypes[r]) + ") " + bad + ".");
+    }
   }
 
   // Faces.
@@ -729,11 +792,12 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
   }
   const vtkIdType nc = curveType->GetNumberOfTuples();
   vtkDataArray* curveParameters =
-    numeric(fd, "field", CurveParametersName, femorph::kCurveParameterWidth, nc);
+    numeric(fd, "field", CurveParametersName, femorph::kCurveParameterWidth, nc, CurveTypeName);
   vtkDataArray* curveClosed =
-    curveParameters ? numeric(fd, "field", CurveClosedName, 1, nc) : nullptr;
-  vtkDataArray* curveOffsets =
-    curveClosed ? numeric(fd, "field", CurveOffsetsName, 1, nc + 1) : nullptr;
+    curveParameters ? numeric(fd, "field", CurveClosedName, 1, nc, CurveTypeName) : nullptr;
+  vtkDataArray* curveOffsets = curveClosed
+    ? numeric(fd, "field", CurveOffsetsName, 1, nc + 1, "CurveType, plus one")
+    : nullptr;
   vtkDataArray* curveVertices =
     curveOffsets ? numeric(fd, "field", CurveVerticesName, 1, -1) : nullptr;
   if (!curveVertices)
@@ -750,13 +814,14 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
         [&](vtkIdType i, int, long long v) { out.CurveTypes[i] = static_cast<femorph::CurveType>(v); }) ||
     !integers(curveClosed, 0, 1, [&](vtkIdType i, int, long long v) { out.CurveClosed[i] = v != 0; }) ||
     !integers(curveOffsets, 0, numCurveVertices,
-      [&](vtkIdType i, int, long long v) { offsets[i] = static_cast<vtkIdType>(v); }))
+      [&](vtkIdType i, int, long long v) { offsets[i] = static_cast<vtkIdType>(v); },
+      std::string(CurveVerticesName) + " has " + Str(numCurveVertices) + " values"))
   {
     return fail(problem);
   }
   if (offsets.front() != 0 || offsets.back() != numCurveVertices)
   {
-    return fail(std::string("the array ") + CurveOffsetsName + " does not span " +
+    return fail(std::string("the array ") + CurveOffsetsName + of + " does not span " +
       CurveVerticesName + " (it runs from " + Str(offsets.front()) + " to " + Str(offsets.back()) +
       " of " + Str(numCurveVertices) + ").");
   }
@@ -764,7 +829,7 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
   {
     if (offsets[c + 1] < offsets[c])
     {
-      return fail(std::string("the array ") + CurveOffsetsName + " decreases at curve " + Str(c) +
+      return fail(std::string("the array ") + CurveOffsetsName + of + " decreases at curve " + Str(c) +
         ".");
     }
   }

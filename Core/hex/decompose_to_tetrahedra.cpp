@@ -326,7 +326,12 @@ Status decompose(const std::vector<Vec3>& points, const MixedCells& cells, const
 Status decompose_to_tetrahedra(const std::vector<Vec3>& points, const MixedCells& cells,
                                const HexToTetParams& params, HexToTetResult& result) {
   result = HexToTetResult{};
-  const Status s = decompose(points, cells, params, result);
+  Status s = decompose(points, cells, params, result);
+  // After decompose's checks of the cells' sizes and ids.
+  const std::array<index_t, 2> twice = s ? find_duplicate_cells(cells) : std::array<index_t, 2>{{-1, -1}};
+  if (twice[0] >= 0)
+    s = Status::failure("cells " + std::to_string(twice[0]) + " and " + std::to_string(twice[1]) +
+                        " have the same points: the mesh has a cell twice (its tetrahedra would overlap)");
   if (!s) result = HexToTetResult{};
   return s;
 }

@@ -58,8 +58,8 @@ struct HexToTetResult {
 /// 4.4): hexahedra into 5 or 6 (Fig. 4.5), wedges into 3, pyramids into 2,
 /// tetrahedra copied. Tets come out cell by cell in input order.
 /// Fails with a message (and an empty result) on a node id out of range, a
-/// cell with a repeated node, a non-finite coordinate, or inconsistent
-/// offsets. Inverted output tets are reported, not refused.
+/// cell with a repeated node, two cells over the same nodes, a non-finite
+/// coordinate, or inconsistent offsets. Inverted output tets are reported, not refused.
 Status decompose_to_tetrahedra(const std::vector<Vec3>& points, const MixedCells& cells,
                                const HexToTetParams& params, HexToTetResult& result);
 

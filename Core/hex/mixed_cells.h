@@ -6,6 +6,7 @@
 #include "common/types.h"
 #include "quality/tet_quality.h"
 
+#include <array>
 #include <vector>
 
 namespace femorph {
@@ -24,5 +25,9 @@ struct MixedCells {
     offsets.push_back(static_cast<index_t>(connectivity.size()));
   }
 };
+
+/// The two lowest ids of cells over the same set of nodes (a cell written
+/// twice), the smaller first; {-1, -1} when every cell has its own nodes.
+std::array<index_t, 2> find_duplicate_cells(const MixedCells& cells);
 
 }  // namespace femorph

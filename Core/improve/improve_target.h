@@ -30,6 +30,11 @@ struct ReferenceMesh {
   BoundaryGeometry geometry;
 };
 
+/// Fails with a message naming the first problem when `reference` is no
+/// mesh to take a target from: a point id out of range, a tetrahedron with a
+/// repeated point or zero volume, tetrahedra oriented both ways.
+Status check_reference_mesh(const ReferenceMesh& reference);
+
 struct ImproveTargetOptions {
   /// Build the density field (off for Poor Elements Only, which needs none).
   bool density = true;

@@ -1,4 +1,4 @@
-// generate_corpus: writes the malformed-input corpus (issue 25) into a folder:
+// generate_corpus: writes the malformed-input corpus into a folder:
 // a few hundred .vtu files, each a valid base part with one fault, and
 // manifest.tsv (corpus_manifest.h) saying how run_corpus judges each case.
 //
@@ -492,7 +492,7 @@ public:
   {
     for (char& ch : c.Name)
     {
-      // Names are file names and single tokens of known_failures.txt.
+      // Names are file names and single tokens of the report.
       if (ch == ' ' || ch == '/' || ch == '\t')
       {
         ch = '_';
@@ -561,11 +561,11 @@ CaseEntry On(const Base& base, const std::string& what, const std::string& descr
   return c;
 }
 
-// Who reads what (today's filters; keep in step with the filters):
-// FaceRegion: Segment and Improve (vtkFEMorphMeshConversion::ToTetMesh passes
-// it to the core); VertexClass, the region and curve field arrays,
-// RegionArrayName and the Reference: Improve.
-const char* const FaceRegionReaders = "Segment,Improve";
+// Who reads what (keep in step with the filters): FaceRegion, VertexClass,
+// the region and curve field arrays, RegionArrayName and the Reference:
+// Improve (vtkFEMorphSegmentationArrays::ReadFromMesh). Segment does not
+// read the input's FaceRegion: it writes its own.
+const char* const FaceRegionReaders = "Improve";
 const char* const SegmentationReaders = "Improve";
 
 //------------------------------------------------------------------------------

@@ -1,6 +1,6 @@
 // run_corpus: every case of the malformed-input corpus (generate_corpus)
 // through every FEMorph filter, each (case, filter) in a child process
-// (fork + waitpid, with a timeout), against the contract of issue 25:
+// (fork + waitpid, with a timeout), against the contract every filter keeps:
 //
 //   either the filter reports an error (ErrorEvent) and its output is empty,
 //   or its output is valid (checked here, independently of the filters:
@@ -14,8 +14,8 @@
 //   never a crash, a hang, a sanitizer report, or a silently wrong mesh.
 //
 // Prints a table (filter x outcome) and the failing (case, filter) pairs with
-// their reason. Exit status 1 when a pair fails that is not listed in the
-// --known-failures file. README.md beside this file has the details.
+// their reason. Exit status 1 when any pair fails. README.md beside this
+// file has the details.
 #include "corpus_manifest.h"
 
 #include "vtkFEMorphHexToTet.h"
@@ -1448,34 +1448,11 @@ struct Options
   double TimeoutScale = 1;
   std::vector<std::string> OnlyFilters;
   std::string OnlyCase;
-  std::string KnownFailures;
-  std::string WriteKnown;
   std::string Report;
   std::string Logs;
   bool Verbose = false;
   bool SelfTest = false;
 };
-
-std::set<std::pair<std::string, std::string>> ReadKnown(const std::string& path)
-{
-  std::set<std::pair<std::string, std::string>> known;
-  std::ifstream in(path);
-  std::string line;
-  while (std::getline(in, line))
-  {
-    if (line.empty() || line[0] == '#')
-    {
-      continue;
-    }
-    std::istringstream fields(line);
-    std::string name, filter;
-    if (fields >> name >> filter)
-    {
-      known.insert({ name, filter });
-    }
-  }
-  return known;
-}
 
 int RunAll(const Options& options, const std::vector<CaseEntry>& cases,
   const std::vector<FilterSpec>& filters, std::vector<Job>& jobs)
@@ -1688,9 +1665,6 @@ void Usage()
        "  --filter NAME          only this filter (repeatable): MeshQuality, Segment, Improve,\n"
        "                         HexToTet, TetToHex\n"
        "  --case TEXT            only cases whose name contains TEXT\n"
-       "  --known-failures FILE  (case, filter) pairs expected to fail today: reported,\n"
-       "                         not counted in the exit status\n"
-       "  --write-known FILE     write today's failing pairs in that format\n"
        "  --report FILE          every (case, filter) with its outcome, as TSV\n"
        "  --logs DIR             the children's logs (kept for failures; default\n"
        "                         <cases>/logs)\n"
@@ -1724,10 +1698,6 @@ int main(int argc, char* argv[])
       options.OnlyFilters.push_back(value());
     else if (arg == "--case")
       options.OnlyCase = value();
-    else if (arg == "--known-failures")
-      options.KnownFailures = value();
-    else if (arg == "--write-known")
-      options.WriteKnown = value();
     else if (arg == "--report")
       options.Report = value();
     else if (arg == "--logs")
@@ -1792,10 +1762,6 @@ int main(int argc, char* argv[])
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
-  const auto known = options.KnownFailures.empty()
-    ? std::set<std::pair<std::string, std::string>>()
-    : ReadKnown(options.KnownFailures);
-
   // The table: filter x outcome.
   std::map<std::string, std::array<int, NumOutcomes>> counts;
   for (const FilterSpec& f : filters)
@@ -1854,7 +1820,7 @@ int main(int argc, char* argv[])
   std::stable_sort(failures.begin(), failures.end(), [](const Job* a, const Job* b) {
     return a->Result.What < b->Result.What;
   });
-  int unexpected = 0, knownCount = 0;
+
   if (!failures.empty())
   {
     std::cout << "\nFailing (case, filter) pairs: " << failures.size() << "\n";
@@ -1862,29 +1828,9 @@ int main(int argc, char* argv[])
   for (const Job* job : failures)
   {
     const CaseEntry& c = cases[job->Case];
-    const bool isKnown = known.count({ c.Name, filters[job->Filter].Name }) > 0;
-    knownCount += isKnown ? 1 : 0;
-    unexpected += isKnown ? 0 : 1;
-    std::cout << (isKnown ? "  known " : "  FAIL  ") << std::left << std::setw(50) << c.Name
+    std::cout << "  FAIL  " << std::left << std::setw(50) << c.Name
               << std::setw(12) << filters[job->Filter].Name << std::setw(11)
               << OutcomeNames[job->Result.What] << job->Result.Reason << "\n";
-  }
-  std::vector<std::string> fixed;
-  for (const Job& job : jobs)
-  {
-    if (Passes(job.Result.What) && known.count({ cases[job.Case].Name, filters[job.Filter].Name }))
-    {
-      fixed.push_back(cases[job.Case].Name + " " + filters[job.Filter].Name);
-    }
-  }
-  if (!fixed.empty())
-  {
-    std::cout << "\nListed in " << options.KnownFailures
-              << " but passing now (remove them from the list):\n";
-    for (const std::string& f : fixed)
-    {
-      std::cout << "  " << f << "\n";
-    }
   }
   if (!options.Report.empty())
   {
@@ -1902,30 +1848,7 @@ int main(int argc, char* argv[])
       out << '\n';
     }
   }
-  if (!options.WriteKnown.empty())
-  {
-    std::vector<std::string> lines;
-    for (const Job* job : failures)
-    {
-      lines.push_back(cases[job->Case].Name + " " + filters[job->Filter].Name + "  # " +
-        OutcomeNames[job->Result.What]);
-    }
-    std::sort(lines.begin(), lines.end());
-    std::ofstream out(options.WriteKnown);
-    out << "# (case, filter) pairs of the malformed-input corpus that fail with today's filters\n"
-           "# (run_corpus --write-known; Release and sanitizer builds). Remove a line when its\n"
-           "# filter is fixed; run_corpus lists the listed pairs that pass now.\n";
-    for (const std::string& line : lines)
-    {
-      out << line << "\n";
-    }
-  }
   const int passed = static_cast<int>(jobs.size() - failures.size());
-  if (knownCount > 0)
-  {
-    std::cout << "\n" << knownCount << " failures are listed in " << options.KnownFailures
-              << " (expected until the filters are fixed)";
-  }
-  std::cout << "\ncorpus: " << passed << " passed, " << unexpected << " failed\n";
-  return unexpected == 0 ? 0 : 1;
+  std::cout << "\ncorpus: " << passed << " passed, " << failures.size() << " failed\n";
+  return failures.empty() ? 0 : 1;
 }

@@ -719,8 +719,10 @@ TEST(HexToTet, InvertedAndFlatHexesAreReported) {
   HexMesh m;
   m.points.assign(kCube, kCube + 8);
   for (int i = 0; i < 4; ++i) m.points.push_back(kCube[i]);  // 8..11: bottom again
+  for (int i = 0; i < 8; ++i) m.points.push_back(kCube[i]);  // 12..19: the cube again
   const index_t good[8] = { 0, 1, 2, 3, 4, 5, 6, 7 };
-  const index_t upside_down[8] = { 4, 5, 6, 7, 0, 1, 2, 3 };
+  // Its own copy of the points: the same nodes twice would be a duplicate.
+  const index_t upside_down[8] = { 16, 17, 18, 19, 12, 13, 14, 15 };
   const index_t flat[8] = { 0, 1, 2, 3, 8, 9, 10, 11 };
   m.cells.add(CellKind::Hexahedron, good);
   m.cells.add(CellKind::Hexahedron, upside_down);
@@ -787,6 +789,15 @@ TEST(HexToTet, RefusesBrokenInput) {
     bad.cells.kinds[0] = CellKind::Wedge;
     bad.cells.offsets = { 0, 8 };
     expect_failure(bad, "cell 0 (wedge) has 8 nodes instead of 6");
+  }
+  {
+    // A cell written twice, its nodes in another order.
+    HexMesh bad = m;
+    const index_t turned[8] = { hex[1], hex[2], hex[3], hex[0], hex[5], hex[6], hex[7], hex[4] };
+    bad.cells.add(CellKind::Hexahedron, turned);
+    expect_failure(bad, "cells 0 and 1 have the same points");
+    EXPECT_EQ(find_duplicate_cells(bad.cells), (std::array<index_t, 2>{ { 0, 1 } }));
+    EXPECT_EQ(find_duplicate_cells(m.cells), (std::array<index_t, 2>{ { -1, -1 } }));
   }
   // An empty mesh is no error: nothing to split.
   HexToTetResult r;

@@ -136,6 +136,32 @@ TEST(ImproveTarget, AcceptableErrorFromAMatchingReferenceSegmentation) {
   EXPECT_EQ(own.acceptable_error[1], region_geometric_error(mesh, annulus.geometry)[1]);
 }
 
+TEST(ImproveTarget, TheReferenceMustBeAMesh) {
+  const auto cube = make_cube_mesh(2, 0.0, 1);
+  ReferenceMesh reference;
+  reference.points = cube.points;
+  reference.tets = cube.tets;
+  EXPECT_TRUE(check_reference_mesh(reference).ok);
+
+  ReferenceMesh repeated = reference;
+  repeated.tets[3][2] = repeated.tets[3][0];
+  EXPECT_NE(check_reference_mesh(repeated).message.find("tetrahedron 3 uses point"), std::string::npos);
+
+  ReferenceMesh outside = reference;
+  outside.tets[5][1] = static_cast<index_t>(outside.points.size());
+  EXPECT_NE(check_reference_mesh(outside).message.find("tetrahedron 5 refers to point"), std::string::npos);
+
+  ReferenceMesh flat = reference;
+  for (Vec3& p : flat.points) p.z() = 0;
+  const Status s = check_reference_mesh(flat);
+  EXPECT_NE(s.message.find(std::to_string(cube.tets.size()) + " tetrahedra have zero volume"), std::string::npos)
+      << s.message;
+
+  ReferenceMesh mixed = reference;
+  std::swap(mixed.tets[0][1], mixed.tets[0][2]);
+  EXPECT_NE(check_reference_mesh(mixed).message.find("oriented both ways"), std::string::npos);
+}
+
 // pack_curve_parameters and unpack_curve_parameters are inverse.
 TEST(CurveParameters, PackUnpackRoundTrip) {
   BoundaryCurve curve;

@@ -459,6 +459,17 @@ TEST(MeshConversion, CheckGridNamesEachProblem)
   EXPECT_NE(Conversion::CheckGrid(mixed, CellSet::Linear3D).find("1 VTK_TRIANGLE cell"),
     std::string::npos);
 
+  auto unknownType = MakeGrid({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } },
+    { { VTK_TETRA, { 0, 1, 2, 3 } }, { 99, { 0, 1, 2, 3 } } });
+  EXPECT_NE(Conversion::CheckGrid(unknownType, CellSet::Any)
+              .find("cell 1 of the input has the type 99, which is no VTK cell type"),
+    std::string::npos);
+  auto fourPointTriangle = MakeGrid({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } },
+    { { VTK_TETRA, { 0, 1, 2, 3 } }, { VTK_TRIANGLE, { 0, 1, 2, 3 } } });
+  EXPECT_NE(Conversion::CheckGrid(fourPointTriangle, CellSet::Any)
+              .find("cell 1 of the input is a VTK_TRIANGLE with 4 points instead of 3"),
+    std::string::npos);
+
   vtkNew<vtkUnstructuredGrid> noPoints;
   const vtkIdType ids[4] = { 0, 1, 2, 3 };
   noPoints->InsertNextCell(VTK_TETRA, 4, ids);

@@ -885,7 +885,7 @@ TEST(SegmentationArraysRefusals, ReaderNamesTheProblem)
   const std::vector<Case> cases = {
     { "no cell array FaceRegion",
       [](vtkUnstructuredGrid* g) { g->GetCellData()->RemoveArray(Arrays::FaceRegionName); } },
-    { "FaceRegion has 1 components instead of 4",
+    { "FaceRegion of the input has 1 components instead of 4",
       [&](vtkUnstructuredGrid* g) {
         auto a = intArray(Arrays::FaceRegionName, 1, {});
         a->SetNumberOfTuples(g->GetNumberOfCells());
@@ -896,7 +896,7 @@ TEST(SegmentationArraysRefusals, ReaderNamesTheProblem)
       [](vtkUnstructuredGrid* g) {
         g->GetCellData()->GetArray(Arrays::FaceRegionName)->SetComponent(3, 2, 6);
       } },
-    { "FaceRegion has the value nan at 0, component 0",
+    { "FaceRegion of the input has the value nan at 0, component 0",
       [](vtkUnstructuredGrid* g) {
         // Any numeric type is read; a double array can hold a NaN.
         vtkNew<vtkDoubleArray> a;
@@ -904,26 +904,26 @@ TEST(SegmentationArraysRefusals, ReaderNamesTheProblem)
         a->SetComponent(0, 0, std::nan(""));
         g->GetCellData()->AddArray(a);
       } },
-    { "FaceRegion has the value 0.5 at 2, component 1",
+    { "FaceRegion of the input has the value 0.5 at 2, component 1",
       [](vtkUnstructuredGrid* g) {
         vtkNew<vtkDoubleArray> a;
         a->DeepCopy(g->GetCellData()->GetArray(Arrays::FaceRegionName));
         a->SetComponent(2, 1, 0.5);
         g->GetCellData()->AddArray(a);
       } },
-    { "RegionParameters has 3 components instead of 12",
+    { "RegionParameters of the input has 3 components instead of 12",
       [&](vtkUnstructuredGrid* g) {
         g->GetFieldData()->AddArray(intArray(Arrays::RegionParametersName, 3, std::vector<double>(18, 0.0)));
       } },
-    { "RegionConvexity has 2 values instead of 6",
+    { "RegionConvexity of the input has 2 values instead of 6",
       [&](vtkUnstructuredGrid* g) {
         g->GetFieldData()->AddArray(intArray(Arrays::RegionConvexityName, 1, { 0, 1 }));
       } },
-    { "RegionType has the value 9",
+    { "RegionType of the input has the value 9",
       [](vtkUnstructuredGrid* g) {
         g->GetFieldData()->GetArray(Arrays::RegionTypeName)->SetComponent(1, 0, 9);
       } },
-    { "RegionType is not numeric",
+    { "RegionType of the input is not numeric",
       [](vtkUnstructuredGrid* g) {
         vtkNew<vtkStringArray> s;
         s->SetName(Arrays::RegionTypeName);
@@ -932,39 +932,39 @@ TEST(SegmentationArraysRefusals, ReaderNamesTheProblem)
       } },
     { "no field array CurveVertices",
       [](vtkUnstructuredGrid* g) { g->GetFieldData()->RemoveArray(Arrays::CurveVerticesName); } },
-    { "CurveOffsets does not span",
+    { "CurveOffsets of the input does not span",
       [](vtkUnstructuredGrid* g) {
         g->GetFieldData()->GetArray(Arrays::CurveOffsetsName)->SetComponent(6, 0, 3);
       } },
-    { "CurveOffsets decreases at curve 1",
+    { "CurveOffsets of the input decreases at curve 1",
       [](vtkUnstructuredGrid* g) {
         g->GetFieldData()->GetArray(Arrays::CurveOffsetsName)->SetComponent(1, 0, 10);
       } },
-    { "CurveVertices has the value",
+    { "CurveVertices of the input has the value",
       [](vtkUnstructuredGrid* g) {
         g->GetFieldData()->GetArray(Arrays::CurveVerticesName)->SetComponent(0, 0, 1e6);
       } },
-    { "VertexClass has 1 values instead of",
+    { "VertexClass of the input has 1 values instead of",
       [&](vtkUnstructuredGrid* g) {
         g->GetPointData()->AddArray(intArray(Arrays::VertexClassName, 1, { 1 }));
       } },
-    { "FaceRegion has the value 2.14748e+09 at 0",
+    { "FaceRegion of the input has the value 2.14748e+09 at 0",
       [](vtkUnstructuredGrid* g) {
         g->GetCellData()->GetArray(Arrays::FaceRegionName)->SetComponent(0, 0, VTK_INT_MAX);
       } },
-    { "FaceRegion has the value -2 at 1, component 3",
+    { "FaceRegion of the input has the value -2 at 1, component 3",
       [](vtkUnstructuredGrid* g) {
         g->GetCellData()->GetArray(Arrays::FaceRegionName)->SetComponent(1, 3, -2);
       } },
-    { "FaceRegion has 3 values instead of",
+    { "FaceRegion of the input has 3 values instead of",
       [](vtkUnstructuredGrid* g) {
         g->GetCellData()->GetArray(Arrays::FaceRegionName)->SetNumberOfTuples(3);
       } },
-    { "RegionParameters has a NaN or infinite value at 2, component 6",
+    { "RegionParameters of the input has a NaN or infinite value at 2, component 6",
       [](vtkUnstructuredGrid* g) {
         g->GetFieldData()->GetArray(Arrays::RegionParametersName)->SetComponent(2, 6, std::nan(""));
       } },
-    { "CurveParameters has a NaN or infinite value at 1, component 9",
+    { "CurveParameters of the input has a NaN or infinite value at 1, component 9",
       [](vtkUnstructuredGrid* g) {
         g->GetFieldData()->GetArray(Arrays::CurveParametersName)
           ->SetComponent(1, 9, std::numeric_limits<double>::infinity());
