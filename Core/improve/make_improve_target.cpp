@@ -10,14 +10,6 @@
 namespace femorph {
 namespace {
 
-std::vector<Tet> live_tets(const TetMesh& mesh) {
-  std::vector<Tet> tets;
-  tets.reserve(mesh.live_tets());
-  for (index_t t = 0; t < mesh.tet_slots(); ++t)
-    if (mesh.tet_alive(t)) tets.push_back(mesh.tet(t));
-  return tets;
-}
-
 Tet sorted(Tet t) {
   std::sort(t.begin(), t.end());
   return t;
@@ -39,7 +31,7 @@ ImproveTarget make_improve_target(const TetMesh& mesh, const BoundaryGeometry* g
   ImproveTarget target;
   const bool has_reference = reference && !reference->tets.empty();
   const std::vector<Vec3>& points = mesh.points();
-  const std::vector<Tet> tets = live_tets(mesh);
+  const std::vector<Tet> tets = live_tet_list(mesh);
   // Improve looks the field up per cell (rho_GC), not trilinearly.
   constexpr bool with_trilinear = false;
 

@@ -17,14 +17,6 @@ namespace femorph {
 
 namespace {
 
-std::vector<Tet> live_tets(const TetMesh& mesh) {
-  std::vector<Tet> tets;
-  tets.reserve(mesh.live_tets());
-  for (index_t t = 0; t < mesh.tet_slots(); ++t)
-    if (mesh.tet_alive(t)) tets.push_back(mesh.tet(t));
-  return tets;
-}
-
 double signed_volume6(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return (b - a).dot((c - a).cross(d - a));
 }
@@ -177,7 +169,7 @@ std::vector<double> vertex_density(const std::vector<Vec3>& points, const std::v
 }
 
 std::vector<double> vertex_density(const TetMesh& mesh) {
-  return vertex_density(mesh.points(), live_tets(mesh));
+  return vertex_density(mesh.points(), live_tet_list(mesh));
 }
 
 double mean_edge_length(const std::vector<Vec3>& points, const std::vector<Tet>& tets) {
@@ -371,7 +363,7 @@ DensityError mean_density_error(const std::vector<Vec3>& points, const std::vect
 }
 
 DensityError mean_density_error(const TetMesh& mesh, const DensityGrid& grid, DensityLookup lookup) {
-  return density_error_of(mesh.points(), live_tets(mesh), grid, lookup);
+  return density_error_of(mesh.points(), live_tet_list(mesh), grid, lookup);
 }
 
 }  // namespace femorph

@@ -33,4 +33,12 @@ CompactMesh TetMesh::compact() const {
   return out;
 }
 
+std::vector<Tet> live_tet_list(const TetMesh& mesh) {
+  std::vector<Tet> tets;
+  tets.reserve(mesh.live_tets());
+  for (index_t t = 0; t < mesh.tet_slots(); ++t)
+    if (mesh.tet_alive(t)) tets.push_back(mesh.tet(t));
+  return tets;
+}
+
 }  // namespace femorph

@@ -423,4 +423,8 @@ class TetMesh {
   std::vector<index_t> touched_;
 };
 
+/// The live tets' vertex ids in slot order (a fresh mesh: the input's tets,
+/// orientation as built).
+std::vector<Tet> live_tet_list(const TetMesh& mesh);
+
 }  // namespace femorph
