@@ -18,9 +18,7 @@
 #include "improve/boundary_geometry.h"
 #include "improve/improve_target.h"
 #include "improve/phased_odt.h"
-#include "mesh/surface_mesh.h"
 #include "mesh/tet_mesh.h"
-#include "mesh/trace_boundary_curves.h"
 #include "quality/tet_quality.h"
 #include "segment/segmentation.h"
 
@@ -43,19 +41,6 @@ using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point t0)
 {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-/// Boundary faces of `mesh` (as built from the grid) take the regions of
-/// the surface triangles extracted from it, and the vertices their classes.
-void SetFaceRegions(
-  femorph::TetMesh& mesh, const femorph::SurfaceMesh& surface, const femorph::Segmentation& segmentation)
-{
-  for (femorph::index_t f = 0; f < surface.num_triangles(); ++f)
-  {
-    const femorph::index_t code = surface.source_face[f];
-    mesh.set_face_region(code / 4, code % 4, segmentation.triangle_region[f]);
-  }
-  mesh.classify_vertices();
 }
 
 /// Where the first few of `tets` are: their centres, for a message.
@@ -94,33 +79,6 @@ void AddQualityArrays(const femorph::CompactMesh& compact, vtkUnstructuredGrid* 
   output->GetCellData()->AddArray(stretchArray);
   output->GetCellData()->AddArray(inverted);
   output->GetCellData()->SetActiveScalars("Stretch");
-}
-
-/// CurveVertices and CurveOffsets in the output's numbering.
-void AddCurveVertices(const femorph::CompactMesh& compact,
-  const std::vector<femorph::BoundaryCurve>& curves, const femorph::BoundaryGeometry& geometry,
-  vtkFieldData* fd)
-{
-  std::vector<std::vector<femorph::index_t>> oldCurves(curves.size());
-  for (std::size_t c = 0; c < curves.size(); ++c)
-  {
-    oldCurves[c] = curves[c].vertices;
-  }
-  vtkNew<vtkIdTypeArray> vertices;
-  vertices->SetName(vtkFEMorphSegmentationArrays::CurveVerticesName);
-  vtkNew<vtkIdTypeArray> offsets;
-  offsets->SetName(vtkFEMorphSegmentationArrays::CurveOffsetsName);
-  offsets->InsertNextValue(0);
-  for (const auto& curve : femorph::trace_boundary_curves(compact, oldCurves, geometry.curve_regions))
-  {
-    for (const femorph::index_t v : curve)
-    {
-      vertices->InsertNextValue(v);
-    }
-    offsets->InsertNextValue(vertices->GetNumberOfTuples());
-  }
-  fd->AddArray(vertices);
-  fd->AddArray(offsets);
 }
 
 /// Seconds spent outside phased_odt (which times its own steps).
@@ -339,10 +297,9 @@ bool vtkFEMorphImprove::Execute(
   if (!haveSegmentation && this->SegmentIfMissing)
   {
     const auto t0 = Clock::now();
-    femorph::SurfaceMesh surface;
-    femorph::Segmentation segmentation;
-    const femorph::Status segmented = femorph::segment_boundary(mesh,
-      femorph::SegmentationParams(), surface, segmentation, this->ProgressRange(0.0, 0.05));
+    std::size_t regionCount = 0;
+    const femorph::Status segmented = vtkFEMorphSegmentationArrays::SegmentMesh(
+      mesh, input, working, seg, regionCount, this->ProgressRange(0.0, 0.05));
     if (this->WasAborted())
     {
       return true;
@@ -353,18 +310,9 @@ bool vtkFEMorphImprove::Execute(
         segmented.message);
       return false;
     }
-    // The arrays go to the output with the mesh.
-    working = vtkSmartPointer<vtkUnstructuredGrid>::New();
-    working->ShallowCopy(input);
-    if (!this->Check(vtkFEMorphSegmentationArrays::WriteToMesh(surface, segmentation, working)) ||
-      !this->Check(vtkFEMorphSegmentationArrays::ReadFromMesh(working, seg)))
-    {
-      return false;
-    }
-    SetFaceRegions(mesh, surface, segmentation);
     this->Warn("the input has no segmentation arrays (run FEMorph Segment first to choose its "
                "settings); it was segmented with the default settings into " +
-      std::to_string(segmentation.regions.size()) + " regions.");
+      std::to_string(regionCount) + " regions.");
     haveSegmentation = true;
     segmentationSeconds = SecondsSince(t0);
   }
@@ -513,7 +461,7 @@ bool vtkFEMorphImprove::Execute(
   vtkFieldData* fd = output->GetFieldData();
   if (haveSegmentation && !seg.Curves.empty())
   {
-    AddCurveVertices(compact, seg.Curves, geometry, fd);
+    vtkFEMorphSegmentationArrays::WriteTracedCurves(compact, seg.Curves, geometry.curve_regions, fd);
   }
 
   ImproveTimes times;

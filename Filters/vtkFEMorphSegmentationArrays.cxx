@@ -19,6 +19,9 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
+#include "mesh/tet_mesh.h"
+#include "mesh/trace_boundary_curves.h"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -866,4 +869,68 @@ Status vtkFEMorphSegmentationArrays::ReadFromMesh(
     curve.vertices.assign(out.CurveVertices[c].begin(), out.CurveVertices[c].end());
   }
   return Status::success();
+}
+
+//------------------------------------------------------------------------------
+femorph::Status vtkFEMorphSegmentationArrays::SegmentMesh(femorph::TetMesh& mesh,
+  vtkUnstructuredGrid* input, vtkSmartPointer<vtkUnstructuredGrid>& working, MeshSegmentation& out,
+  std::size_t& regionCount, const std::function<bool(double, const char*)>& progress)
+{
+  femorph::SurfaceMesh surface;
+  femorph::Segmentation segmentation;
+  const femorph::Status segmented =
+    femorph::segment_boundary(mesh, femorph::SegmentationParams(), surface, segmentation, progress);
+  if (!segmented)
+  {
+    return segmented;
+  }
+  working = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  working->ShallowCopy(input);
+  femorph::Status status = WriteToMesh(surface, segmentation, working);
+  if (status)
+  {
+    status = ReadFromMesh(working, out);
+  }
+  if (!status)
+  {
+    return status;
+  }
+  for (femorph::index_t f = 0; f < surface.num_triangles(); ++f)
+  {
+    const femorph::index_t code = surface.source_face[f];
+    mesh.set_face_region(code / 4, code % 4, segmentation.triangle_region[f]);
+  }
+  mesh.classify_vertices();
+  regionCount = segmentation.regions.size();
+  return femorph::Status::success();
+}
+
+//------------------------------------------------------------------------------
+std::vector<std::vector<femorph::index_t>> vtkFEMorphSegmentationArrays::WriteTracedCurves(
+  const femorph::CompactMesh& compact, const std::vector<femorph::BoundaryCurve>& curves,
+  const std::vector<std::array<femorph::index_t, 2>>& curveRegions, vtkFieldData* fd)
+{
+  std::vector<std::vector<femorph::index_t>> oldCurves(curves.size());
+  for (std::size_t c = 0; c < curves.size(); ++c)
+  {
+    oldCurves[c] = curves[c].vertices;
+  }
+  vtkNew<vtkIdTypeArray> vertices;
+  vertices->SetName(CurveVerticesName);
+  vtkNew<vtkIdTypeArray> offsets;
+  offsets->SetName(CurveOffsetsName);
+  offsets->InsertNextValue(0);
+  std::vector<std::vector<femorph::index_t>> traced =
+    femorph::trace_boundary_curves(compact, oldCurves, curveRegions);
+  for (const auto& curve : traced)
+  {
+    for (const femorph::index_t v : curve)
+    {
+      vertices->InsertNextValue(v);
+    }
+    offsets->InsertNextValue(vertices->GetNumberOfTuples());
+  }
+  fd->AddArray(vertices);
+  fd->AddArray(offsets);
+  return traced;
 }

@@ -65,6 +65,7 @@
 
 #include "FEMorphFiltersModule.h" // For export macro
 #include "vtkFEMorphMeshConversion.h" // For the array names
+#include "vtkSmartPointer.h"    // For vtkSmartPointer
 #include "vtkType.h"            // For vtkIdType
 
 #include "common/types.h"          // femorph::Status
@@ -73,12 +74,14 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 class vtkPolyData;
 class vtkTable;
 class vtkUnstructuredGrid;
+class vtkFieldData;
 
 class FEMORPHFILTERS_EXPORT vtkFEMorphSegmentationArrays
 {
@@ -175,6 +178,28 @@ public:
    */
   static femorph::Status ReadFromMesh(
     vtkUnstructuredGrid* mesh, MeshSegmentation& out, const std::string& gridName = "the input");
+
+  /**
+   * For a filter that needs a segmentation and got a grid without one
+   * (Improve, Deform): segments `mesh` (built from `input`) with FEMorph
+   * Segment's default settings, sets its face regions and vertex classes,
+   * and returns in `working` a shallow copy of `input` that carries the
+   * arrays (read back into `out`). `regionCount` receives the number of
+   * regions. Fails with the segmentation's message.
+   */
+  static femorph::Status SegmentMesh(femorph::TetMesh& mesh, vtkUnstructuredGrid* input,
+    vtkSmartPointer<vtkUnstructuredGrid>& working, MeshSegmentation& out, std::size_t& regionCount,
+    const std::function<bool(double, const char*)>& progress);
+
+  /**
+   * CurveVertices and CurveOffsets in the numbering of `compact`, a mesh
+   * edited by a filter: each curve of `curves` (between the regions
+   * `curveRegions`) traced again along its regions' shared edges. Returns
+   * the traced chains.
+   */
+  static std::vector<std::vector<femorph::index_t>> WriteTracedCurves(const femorph::CompactMesh& compact,
+    const std::vector<femorph::BoundaryCurve>& curves,
+    const std::vector<std::array<femorph::index_t, 2>>& curveRegions, vtkFieldData* fd);
 };
 
 #endif

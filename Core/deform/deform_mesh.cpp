@@ -1,0 +1,238 @@
+// Dimension-driven deformation of a tet mesh (thesis 2.5, Fig. 2.19) with
+// the quality improvement of 2.6 on the deformable region; a change that
+// would invert tetrahedra is split into smaller steps with improvement in
+// between (thesis 2.8, Fig. 2.55, future work).
+#include "deform/deform.h"
+
+#include "improve/improve_target.h"
+#include "improve/phased_odt.h"
+#include "mesh/tet_mesh.h"
+#include "quality/tet_quality.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace femorph {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double min_stretch(const TetMesh& mesh, const std::vector<std::uint8_t>* mask = nullptr) {
+  double lo = std::numeric_limits<double>::infinity();
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t) || (mask && !mask->empty() && !(*mask)[t])) continue;
+    const Tet& T = mesh.tet(t);
+    lo = std::min(lo, tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])));
+  }
+  return lo;
+}
+
+double mean_edge_length(const TetMesh& mesh) {
+  double sum = 0;
+  std::size_t n = 0;
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const Tet& T = mesh.tet(t);
+    for (const auto& e : kTetEdge) {
+      sum += (mesh.point(T[e[0]]) - mesh.point(T[e[1]])).norm();
+      ++n;
+    }
+  }
+  return n ? sum / n : 0;
+}
+
+/// The largest distance a vertex of a moved region travels for `update`.
+double largest_move(const TetMesh& mesh, const DeformPlan& plan, const SurfaceUpdate& update) {
+  double d = 0;
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    for (int f = 0; f < 4; ++f) {
+      const index_t r = mesh.face_region(t, f);
+      if (r < 0 || r >= static_cast<index_t>(plan.roles.size())) continue;
+      if (plan.roles[r] != RegionRole::Control && plan.roles[r] != RegionRole::Following) continue;
+      for (int k = 0; k < 3; ++k) {
+        const Vec3& p = mesh.point(mesh.tet(t)[kTetFace[f][k]]);
+        d = std::max(d, (update.map(r, p) - p).norm());
+      }
+    }
+  }
+  return d;
+}
+
+std::size_t count_inverted(const TetMesh& mesh, const std::vector<Vec3>& points, const std::vector<std::uint8_t>& mask) {
+  std::size_t n = 0;
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t) || (!mask.empty() && !mask[t])) continue;
+    const Tet& T = mesh.tet(t);
+    n += tet_signed_volume(points[T[0]], points[T[1]], points[T[2]], points[T[3]]) <= 0;
+  }
+  return n;
+}
+
+std::string range_text(const DeformPlan& plan) {
+  std::ostringstream os;
+  os << "[" << plan.valid_min << ", " << plan.valid_max << "]";
+  return os.str();
+}
+
+}  // namespace
+
+Status deform_mesh(TetMesh& mesh, DeformRegions& regions, const DeformOptions& options,
+                   const DeformMeshOptions& mo, DeformPlan& plan, DeformReport& report) {
+  const auto start = Clock::now();
+  report = DeformReport();
+  const auto progress = [&](double f, const char* what) { return !mo.progress || mo.progress(f, what); };
+
+  RegionGraph graph = region_adjacency(mesh, regions.size());
+  Status s = classify_surface_regions(mesh, regions, graph, options, plan);
+  if (!s) return s;
+  report.seconds_classify = seconds_since(start);
+  auto t = Clock::now();
+  find_valid_range(mesh, regions, plan);
+  report.seconds_range = seconds_since(t);
+  report.current = plan.current;
+  report.valid_min = plan.valid_min;
+  report.valid_max = plan.valid_max;
+  report.target = mo.target;
+  report.min_stretch_before = min_stretch(mesh);
+  report.surfaces = regions.surfaces;
+  const double h = mean_edge_length(mesh);
+  if (std::isnan(mo.target)) {
+    // Measure only: the region a change would start from.
+    report.deformable = extract_deformable_region(mesh, plan, 3 * h);
+    report.min_stretch_after = report.min_stretch_before;
+    report.seconds_total = seconds_since(start);
+    return Status::success();
+  }
+  const double tol = 1e-9 * std::max(1.0, std::abs(plan.current));
+  if (mo.target < plan.valid_min - tol || mo.target > plan.valid_max + tol) {
+    std::ostringstream os;
+    os << "TargetValue " << mo.target << " is outside the valid range " << range_text(plan) << " of this "
+       << to_string(options.type) << " (now " << plan.current
+       << "): beyond it a neighbouring face degenerates or the part intersects itself.";
+    return Status::failure(os.str());
+  }
+
+  // The reference of the improvement: the mesh before the deformation.
+  ReferenceMesh reference;
+  if (mo.improve) {
+    reference.points = mesh.points();
+    for (index_t tt = 0; tt < mesh.tet_slots(); ++tt) {
+      if (!mesh.tet_alive(tt)) continue;
+      reference.tets.push_back(mesh.tet(tt));
+      Tet fr;
+      for (int f = 0; f < 4; ++f) fr[f] = mesh.face_region(tt, f);
+      reference.face_regions.push_back(fr);
+    }
+    for (const SurfacePrimitive& sp : regions.surfaces) reference.region_types.push_back(sp.type);
+    reference.geometry = make_boundary_geometry(regions.surfaces, {});
+  }
+
+  const double total = mo.target - plan.current;
+  const double fraction = std::clamp(mo.max_step_fraction, 1.0 / mo.max_steps, 1.0);
+  double step = total * fraction;
+  double value = plan.current;
+  // Per input tet: in the deformable region of some step.
+  std::vector<std::uint8_t> input_region(mesh.tet_slots(), 0);
+  std::vector<std::uint8_t> deformable;
+  std::vector<Vec3> points;
+  bool first = true;
+  while (std::abs(mo.target - value) > tol) {
+    if (!progress(std::abs(value - plan.current) / std::abs(total), "deforming")) {
+      report.aborted = true;
+      break;
+    }
+    if (!first) {
+      graph = region_adjacency(mesh, regions.size());
+      s = classify_surface_regions(mesh, regions, graph, options, plan);
+      if (!s) return s;
+    }
+    first = false;
+    const double next = std::abs(mo.target - value) <= std::abs(step) + tol ? mo.target : value + step;
+    const SurfaceUpdate update = update_region_surfaces(plan, regions, next);
+    if (!update.error.empty()) return Status::failure("TargetValue " + std::to_string(next) + ": " + update.error + ".");
+    auto t0 = Clock::now();
+    const double reach = std::max(3 * h, 1.5 * largest_move(mesh, plan, update));
+    deformable.clear();
+    if (options.local_region) deformable = extract_deformable_region(mesh, plan, reach);
+    VertexParameterization param;
+    s = parameterize_vertices(mesh, plan, deformable, param);
+    if (!s) return s;
+    report.seconds_parameterize += seconds_since(t0);
+    t0 = Clock::now();
+    reposition_vertices(mesh, regions, param, update, points);
+    report.seconds_reposition += seconds_since(t0);
+    const std::size_t inverted = count_inverted(mesh, points, deformable);
+    const int steps_taken = report.steps + 1;
+    const double remaining_steps = std::abs(mo.target - value) / std::abs(step);
+    if (inverted > 0 && mo.improve && steps_taken + 2 * remaining_steps <= mo.max_steps) {
+      step *= 0.5;  // smaller steps with improvement in between
+      continue;
+    }
+    if (inverted > 0 && !mo.improve) {
+      std::ostringstream os;
+      os << "the change to " << next << " inverts " << inverted
+         << " tetrahedra; turn Improve on (it takes the change in steps and repairs them) or take a smaller change.";
+      return Status::failure(os.str());
+    }
+    report.inverted_before_improve += inverted;
+    for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
+      if (mesh.vertex_alive(v) && points[v] != mesh.point(v)) {
+        mesh.set_point(v, points[v]);
+        ++report.moved_vertices;
+      }
+    }
+    for (index_t tt = 0; tt < static_cast<index_t>(deformable.size()); ++tt) {
+      const index_t o = deformable[tt] && mesh.tet_alive(tt) ? mesh.tet_origin(tt) : kInvalidIndex;
+      if (o >= 0 && o < static_cast<index_t>(input_region.size())) input_region[o] = 1;
+    }
+    regions.surfaces = update.surfaces;
+    report.surface_unknowns += param.surfaces.unknowns.size() + param.curves.unknowns.size();
+    report.inner_unknowns += param.inner.unknowns.size();
+    if (mo.improve) {
+      t0 = Clock::now();
+      // The deformable region and one layer around it.
+      std::vector<std::uint8_t> mask;
+      if (!deformable.empty()) {
+        mask = deformable;
+        std::vector<std::uint8_t> touched(mesh.vertex_slots(), 0);
+        for (index_t tt = 0; tt < mesh.tet_slots(); ++tt)
+          if (mesh.tet_alive(tt) && mask[tt])
+            for (const index_t v : mesh.tet(tt)) touched[v] = 1;
+        for (index_t tt = 0; tt < mesh.tet_slots(); ++tt)
+          if (mesh.tet_alive(tt) && !mask[tt])
+            for (const index_t v : mesh.tet(tt)) mask[tt] |= touched[v];
+      }
+      const BoundaryGeometry geometry = make_boundary_geometry(regions.surfaces, {});
+      const ImproveTarget target = make_improve_target(mesh, &geometry, &reference);
+      for (const std::string& w : target.warnings) report.warnings.push_back(w);
+      PhasedOdtOptions po;
+      po.quality_floor = mo.quality_floor;
+      po.tet_mask = std::move(mask);
+      po.sort_min_tets = std::numeric_limits<std::size_t>::max();  // keep ids: the origin of each tet is tracked
+      const PhasedOdtStats stats = phased_odt(mesh, geometry, target.view(), po);
+      if (!stats.remaining_inverted.empty()) {
+        std::ostringstream os;
+        os << stats.remaining_inverted.size() << " tetrahedra stay inverted after the change to " << next
+           << " and its improvement; take a smaller change or a larger MaxSteps.";
+        return Status::failure(os.str());
+      }
+      report.seconds_improve += seconds_since(t0);
+    }
+    value = next;
+    ++report.steps;
+  }
+  // The deformable region over all steps, per input tet.
+  if (!options.local_region) std::fill(input_region.begin(), input_region.end(), 1);
+  report.deformable = std::move(input_region);
+  report.surfaces = regions.surfaces;
+  report.min_stretch_after = min_stretch(mesh);
+  report.seconds_total = seconds_since(start);
+  return Status::success();
+}
+
+}  // namespace femorph

@@ -1,0 +1,92 @@
+// The valid range of the dimension (thesis 2.5.3: the largest and smallest
+// value that degenerates no neighbouring region and makes no
+// self-intersection), found by repositioning the boundary for trial values:
+// a value is valid when its surfaces exist and no boundary triangle of a
+// moved or deformed region folds over on its surface.
+#include "deform/deform.h"
+
+#include "mesh/tet_mesh.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace femorph {
+
+bool boundary_unfolded(const TetMesh& mesh, const DeformRegions& regions, const DeformPlan& plan,
+                       const SurfaceUpdate& update, const std::vector<Vec3>& points, std::string* why) {
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    for (int f = 0; f < 4; ++f) {
+      const index_t r = mesh.face_region(t, f);
+      if (r < 0 || r >= static_cast<index_t>(plan.roles.size()) || plan.roles[r] == RegionRole::Fixed) continue;
+      const Tet& T = mesh.tet(t);
+      const index_t a = T[kTetFace[f][0]], b = T[kTetFace[f][1]], c = T[kTetFace[f][2]];
+      const Vec3 n0 = (mesh.point(b) - mesh.point(a)).cross(mesh.point(c) - mesh.point(a));
+      const Vec3 n1 = (points[b] - points[a]).cross(points[c] - points[a]);
+      bool ok;
+      const SurfacePrimitive& s0 = regions.surfaces[r];
+      const SurfacePrimitive& s1 = update.surfaces[r];
+      if (s0.type == SurfaceType::Unknown || s1.type == SurfaceType::Unknown) {
+        ok = n1.dot(n0) > 1e-6 * n0.squaredNorm();
+      } else {
+        const Vec3 c0 = (mesh.point(a) + mesh.point(b) + mesh.point(c)) / 3;
+        const Vec3 c1 = (points[a] + points[b] + points[c]) / 3;
+        const double side0 = n0.dot(surface_normal(s0, c0)), side1 = n1.dot(surface_normal(s1, c1));
+        ok = (side0 > 0) == (side1 > 0) && std::abs(side1) > 1e-6 * n0.norm();
+      }
+      if (!ok) {
+        if (why) {
+          const Vec3 c1 = (points[a] + points[b] + points[c]) / 3;
+          std::ostringstream os;
+          os << "a boundary triangle of region " << r << " (" << to_string(plan.roles[r]) << ") near (" << c1.x()
+             << ", " << c1.y() << ", " << c1.z() << ") folds over";
+          *why = os.str();
+        }
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+void find_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformPlan& plan) {
+  VertexParameterization param;
+  if (!parameterize_vertices(mesh, plan, {}, param, false)) {
+    plan.valid_min = plan.valid_max = plan.current;
+    return;
+  }
+  std::vector<Vec3> points;
+  const auto valid = [&](double value) {
+    const SurfaceUpdate update = update_region_surfaces(plan, regions, value);
+    if (!update.error.empty()) return false;
+    reposition_vertices(mesh, regions, param, update, points);
+    return boundary_unfolded(mesh, regions, plan, update, points);
+  };
+  const bool angle = plan.options.type == DeformationType::ChamferAngle;
+  const double c = plan.current;
+  const double first = angle ? 0.5 : 0.01 * plan.part_size;
+  const double cap = angle ? 180.0 : 10 * plan.part_size;
+  const auto search = [&](double sign) {
+    double good = c, step = first;
+    double bad = std::numeric_limits<double>::quiet_NaN();
+    while (step <= cap) {
+      const double v = c + sign * step;
+      if (!valid(v)) {
+        bad = v;
+        break;
+      }
+      good = v;
+      step *= 2;
+    }
+    if (std::isnan(bad)) return good;
+    for (int i = 0; i < 40 && std::abs(bad - good) > 1e-9 * std::max(1.0, std::abs(c)); ++i) {
+      const double mid = 0.5 * (good + bad);
+      (valid(mid) ? good : bad) = mid;
+    }
+    return good;
+  };
+  plan.valid_max = search(+1);
+  plan.valid_min = search(-1);
+}
+
+}  // namespace femorph

@@ -1,0 +1,81 @@
+// Vertex repositioning (thesis 2.5.4.5): mapped vertices onto the updated
+// surfaces of the control and following regions (Method 1), then curve,
+// surface and inner vertices by their coordinates (Method 2, Eq. 2.10, one
+// solve per kind with the factorisation of parameterize_vertices), curve and
+// surface vertices finally onto their surfaces.
+#include "deform/deform.h"
+
+#include "mesh/tet_mesh.h"
+
+#include <cmath>
+
+namespace femorph {
+
+namespace {
+
+/// Alternating projections onto the fitted surfaces of `regions` (one
+/// surface: its closest point).
+Vec3 project(const std::vector<SurfacePrimitive>& surfaces, const std::vector<index_t>& regions, Vec3 p, double tol) {
+  std::vector<const SurfacePrimitive*> list;
+  for (const index_t r : regions) {
+    if (r >= 0 && r < static_cast<index_t>(surfaces.size()) && surfaces[r].type != SurfaceType::Unknown) {
+      list.push_back(&surfaces[r]);
+    }
+  }
+  if (list.empty()) return p;
+  const int iterations = list.size() == 1 ? 1 : 100;
+  for (int it = 0; it < iterations; ++it) {
+    const Vec3 before = p;
+    for (const SurfacePrimitive* s : list) p = closest_point(*s, p);
+    if ((p - before).norm() <= tol) break;
+  }
+  return p;
+}
+
+/// The displacements of a system's unknowns from those of its knowns.
+void solve(const VertexParameterization::System& system, std::vector<Vec3>& points, const std::vector<Vec3>& rest) {
+  if (system.unknowns.empty()) return;
+  Eigen::MatrixXd known(system.knowns.size(), 3);
+  for (std::size_t k = 0; k < system.knowns.size(); ++k) {
+    const index_t v = system.knowns[k];
+    known.row(static_cast<Eigen::Index>(k)) = (points[v] - rest[v]).transpose();
+  }
+  const Eigen::MatrixXd rhs = system.rhs * known;
+  const Eigen::MatrixXd u = system.lu->solve(rhs);
+  for (std::size_t i = 0; i < system.unknowns.size(); ++i) {
+    const index_t v = system.unknowns[i];
+    points[v] = rest[v] + u.row(static_cast<Eigen::Index>(i)).transpose();
+  }
+}
+
+}  // namespace
+
+void reposition_vertices(const TetMesh& mesh, const DeformRegions& /*regions*/, const VertexParameterization& param,
+                         const SurfaceUpdate& update, std::vector<Vec3>& points) {
+  using Param = VertexParameterization;
+  const std::vector<Vec3>& rest = mesh.points();
+  points = rest;
+  double scale = 0;
+  for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
+    if (mesh.vertex_alive(v)) scale = std::max(scale, rest[v].cwiseAbs().maxCoeff());
+  }
+  const double tol = 1e-15 * std::max(scale, 1.0);
+  // Method 1: onto the updated surfaces, then onto the deformed neighbours'.
+  for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
+    if (param.kind[v] != Param::Mapped) continue;
+    points[v] = update.map(param.region[v], rest[v]);
+    if (param.mapped_regions[v].size() > 1) points[v] = project(update.surfaces, param.mapped_regions[v], points[v], tol);
+  }
+  // Method 2 by kind; curves and surfaces back onto their surfaces.
+  solve(param.curves, points, rest);
+  for (const index_t v : param.curves.unknowns) {
+    points[v] = project(update.surfaces, {param.curve_regions[v][0], param.curve_regions[v][1]}, points[v], tol);
+  }
+  solve(param.surfaces, points, rest);
+  for (const index_t v : param.surfaces.unknowns) {
+    points[v] = project(update.surfaces, {param.region[v]}, points[v], tol);
+  }
+  solve(param.inner, points, rest);
+}
+
+}  // namespace femorph
