@@ -3,7 +3,9 @@
 before any deformed mesh exists, on Data/ and Data/variants/:
 
 (a) each base part against its own CAD (<part>__base) passes every check,
-    its points all unchanged;
+    its points all unchanged; with one tet flipped, validity counts one
+    inverted tet; with one point of a fixed face moved by one ulp,
+    fixed_unchanged fails;
 (b) a fresh Gmsh mesh of each variant (Data/generate_parts.py's builder with
     the variant's changed dimensions, the part's own mesh options, in a
     temporary folder) is valid and on the variant's surfaces; its minimum
@@ -28,6 +30,8 @@ import os
 import sys
 import tempfile
 import time
+
+import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, here)
@@ -97,6 +101,18 @@ def main():
                 print(f"(a) {part} against {part}__base:")
                 dc.print_rows(rows)
                 expect(ok, f"(a) {part} fails against its own CAD")
+                # The checks see one flipped tet and one fixed point moved by
+                # one ulp.
+                mesh = dc.read_mesh(base_vtu)
+                mesh.tets[0] = mesh.tets[0][[1, 0, 2, 3]]
+                expect(dc.validity(mesh)["inverted"] == 1, f"(a) {part}: flipped tet not seen")
+                mesh = dc.read_mesh(base_vtu)
+                ids = sorted(v for v, ls in dc.labels_of_points(mesh, base_json).items()
+                             if ls == {labels[0]})
+                mesh.points[ids[0], 0] = np.nextafter(mesh.points[ids[0], 0], np.inf)
+                fx = dc.fixed_unchanged(base_vtu, mesh, labels[:1], base_json)
+                expect(fx["changed"] == 1 and not fx["ok"],
+                       f"(a) {part}: a fixed point moved by one ulp not seen")
 
             # (b) a fresh mesh of the variant.
             name = os.path.basename(stem)
