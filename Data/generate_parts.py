@@ -10,6 +10,7 @@ are Debian packages that a pyenv python cannot see):
     /usr/bin/python3 Data/generate_parts.py --step part.step [--step ...] \
         --out-dir /tmp/parts [--mesh-size H]
     /usr/bin/python3 Data/generate_parts.py --hex [--out-dir Data]
+    /usr/bin/python3 Data/generate_parts.py --variants [--out-dir Data] [--only NAME]
 
 For every part it writes <name>.vtu (tets, CAD face labels per tet face, CAD
 entity of every node) and <name>.json (construction dimensions, mesh options,
@@ -30,6 +31,13 @@ its tets (Gmsh's HXT algorithm) vary slightly between runs.
 output folder: a tet mesh of a CAD part, each tet split into four hexahedra
 by Gmsh's subdivision (an unstructured hex mesh, for Hex To Tet, thesis 4.4).
 They are also written by a run without options.
+
+--variants writes only the changed-CAD variants (VARIANTS), for the tests of
+FEMorph Deform: variants/<part>__<variant>.json (the part's JSON layout for
+the CAD of the part with one dimension changed, same face labels) and .vtp
+(a fine Gmsh triangle mesh of its boundary, cell array CADFace), plus the
+identity variant <part>__base. Base and variants come from the same builder
+(its `over` dimensions). A run without options writes them too.
 
 --step meshes STEP files made by others (e.g. shared/realparts) the same way
 and writes <stem>.vtu/.json with the same arrays. The JSON's faces carry
