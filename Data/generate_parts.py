@@ -10,6 +10,7 @@ are Debian packages that a pyenv python cannot see):
     /usr/bin/python3 Data/generate_parts.py --step part.step [--step ...] \
         --out-dir /tmp/parts [--mesh-size H]
     /usr/bin/python3 Data/generate_parts.py --hex [--out-dir Data]
+    /usr/bin/python3 Data/generate_parts.py --variants [--out-dir Data] [--only NAME]
 
 For every part it writes <name>.vtu (tets, CAD face labels per tet face, CAD
 entity of every node) and <name>.json (construction dimensions, mesh options,
@@ -30,6 +31,13 @@ its tets (Gmsh's HXT algorithm) vary slightly between runs.
 output folder: a tet mesh of a CAD part, each tet split into four hexahedra
 by Gmsh's subdivision (an unstructured hex mesh, for Hex To Tet, thesis 4.4).
 They are also written by a run without options.
+
+--variants writes only the changed-CAD variants (VARIANTS), for the tests of
+FEMorph Deform: variants/<part>__<variant>.json (the part's JSON layout for
+the CAD of the part with one dimension changed, same face labels) and .vtp
+(a fine Gmsh triangle mesh of its boundary, cell array CADFace), plus the
+identity variant <part>__base. Base and variants come from the same builder
+(its `over` dimensions). A run without options writes them too.
 
 --step meshes STEP files made by others (e.g. shared/realparts) the same way
 and writes <stem>.vtu/.json with the same arrays. The JSON's faces carry
@@ -209,7 +217,11 @@ def circle_curve(center, radius, normal_axis=2):
 # by, the mesh sizes and a one-line description.
 # ----------------------------------------------------------------------------
 
-def build_boss_block():
+def build_boss_block(over=None):
+    """`over`: dimensions to change (the variants, --variants); the chamfer
+    keeps its leg on the boss top face (boss_chamfer_length, radial) and makes
+    boss_chamfer_angle_deg with that face, so its leg on the boss side is
+    boss_chamfer_length x tan(angle) (equal legs at 45 deg)."""
     occ = gmsh.model.occ
     d = {
         "block_size_x": 100.0, "block_size_y": 60.0, "block_size_z": 20.0,
@@ -221,6 +233,7 @@ def build_boss_block():
         "hole_center_x": 75.0, "hole_center_y": 30.0, "hole_radius": 6.0,
         "hole_note": "through the block only (z = 0 .. block_size_z), beside the boss",
     }
+    d.update(over or {})
     L, W, H = d["block_size_x"], d["block_size_y"], d["block_size_z"]
     bx, by, rb, hb = d["boss_center_x"], d["boss_center_y"], d["boss_radius"], d["boss_height"]
     rf, c = d["boss_fillet_radius"], d["boss_chamfer_length"]
@@ -235,20 +248,28 @@ def build_boss_block():
     base_circle = circle_curve([bx, by, H], rb)
     occ.fillet([single_volume()], [base_circle], [rf], True)
     occ.synchronize()
-    # 45-degree chamfer at the boss top edge (equal distances on both faces).
+    # Chamfer at the boss top edge: leg c on the top face, angle alpha to it
+    # (45 deg: equal distances on both faces).
     top_circle = circle_curve([bx, by, top], rb)
     top_face = entities_in_box(2, [bx - rb, by - rb, top], [bx + rb, by + rb, top])
     assert len(top_face) == 1, top_face
-    occ.chamfer([single_volume()], [top_circle], top_face, [c], True)
+    if d["boss_chamfer_angle_deg"] == 45.0:
+        distances = [c]
+    else:
+        # OCC: the first distance on the given face (the top), the second on
+        # the other face (the boss side).
+        distances = [c, c * math.tan(math.radians(d["boss_chamfer_angle_deg"]))]
+    occ.chamfer([single_volume()], [top_circle], top_face, distances, True)
     solid = single_volume()
     hole = occ.addCylinder(hx, hy, -1.0, 0, 0, H + 2.0, rh)
     occ.cut([(3, solid)], [(3, hole)])
 
     z = [0.0, 0.0, 1.0]
-    alpha = math.radians(d["boss_chamfer_angle_deg"])
     # The chamfer cone narrows upwards; its apex is on the boss axis where the
-    # generating line through (rb - c, top) reaches radius 0.
-    apex_z = top + (rb - c) / math.tan(alpha)
+    # generating line through (rb - c, top) reaches radius 0. Its half angle
+    # (to the axis) is 90 deg - the angle to the top face.
+    chamfer_half_angle = 90.0 - d["boss_chamfer_angle_deg"]
+    apex_z = top + (rb - c) / math.tan(math.radians(chamfer_half_angle))
     surfaces = [
         plane("block bottom", [0, 0, 0], [0, 0, -1]),
         plane("block top", [0, 0, H], [0, 0, 1]),
@@ -260,7 +281,7 @@ def build_boss_block():
         cylinder("boss side", [bx, by, H], z, rb, "convex"),
         torus("boss base fillet", [bx, by, H + rf], z, rb + rf, rf, "concave"),
         cone("boss top chamfer", [bx, by, apex_z], [0, 0, -1],
-             d["boss_chamfer_angle_deg"], "convex"),
+             chamfer_half_angle, "convex"),
         cylinder("through hole", [hx, hy, 0], z, rh, "concave"),
     ]
     mesh = {"Mesh.MeshSizeMin": 0.6, "Mesh.MeshSizeMax": 5.0,
@@ -271,10 +292,15 @@ def build_boss_block():
             d, surfaces, mesh)
 
 
-def build_filleted_box():
+def build_filleted_box(over=None):
     occ = gmsh.model.occ
     d = {"box_size_x": 80.0, "box_size_y": 50.0, "box_size_z": 30.0,
          "box_origin": [0.0, 0.0, 0.0], "edge_fillet_radius": 6.0}
+    # The labels name the faces by the base part's axis positions, so that a
+    # variant's faces keep the base part's labels.
+    label_lo = np.full(3, d["edge_fillet_radius"])
+    label_hi = np.array([d["box_size_x"], d["box_size_y"], d["box_size_z"]]) - label_lo
+    d.update(over or {})
     L, W, H, r = d["box_size_x"], d["box_size_y"], d["box_size_z"], d["edge_fillet_radius"]
     box = occ.addBox(0, 0, 0, L, W, H)
     occ.synchronize()
@@ -299,16 +325,21 @@ def build_filleted_box():
                 p = np.zeros(3)
                 p[others[0]] = (lo, hi)[s0][others[0]]
                 p[others[1]] = (lo, hi)[s1][others[1]]
+                q = np.zeros(3)
+                q[others[0]] = (label_lo, label_hi)[s0][others[0]]
+                q[others[1]] = (label_lo, label_hi)[s1][others[1]]
                 direction = np.zeros(3)
                 direction[axis] = 1.0
                 label = (f"edge fillet along {names[axis]} at "
-                         f"{names[others[0]]}={p[others[0]]:g}, {names[others[1]]}={p[others[1]]:g}")
+                         f"{names[others[0]]}={q[others[0]]:g}, {names[others[1]]}={q[others[1]]:g}")
                 surfaces.append(cylinder(label, p, direction, r, "convex"))
     for sx in (0, 1):
         for sy in (0, 1):
             for sz in (0, 1):
                 c = [(lo, hi)[sx][0], (lo, hi)[sy][1], (lo, hi)[sz][2]]
-                surfaces.append(sphere(f"corner at ({c[0]:g}, {c[1]:g}, {c[2]:g})", c, r, "convex"))
+                q = [(label_lo, label_hi)[sx][0], (label_lo, label_hi)[sy][1],
+                     (label_lo, label_hi)[sz][2]]
+                surfaces.append(sphere(f"corner at ({q[0]:g}, {q[1]:g}, {q[2]:g})", c, r, "convex"))
     mesh = {"Mesh.MeshSizeMin": 1.0, "Mesh.MeshSizeMax": 7.0,
             "Mesh.MeshSizeFromCurvature": 14,
             "refine": {"gmsh_types": ["Sphere"], "size_near": 1.5, "size_far": 7.0,
@@ -316,7 +347,14 @@ def build_filleted_box():
     return "box with all twelve edges filleted (spherical corners)", d, surfaces, mesh
 
 
-def build_cone_sphere_torus():
+def build_cone_sphere_torus(over=None):
+    """`over`: dimensions to change (--variants). With cap_sphere_center_z
+    given (a cap radius changed with the sphere centre kept), the cone keeps
+    its apex and half angle (from the base shaft radius, cone height and top
+    radius) and is cut where its generating line leaves the sphere going up
+    (the upper intersection, z = 42 in the base part): cone_height and
+    cone_top_radius follow. A changed shaft_radius changes the cone's bottom
+    radius (its height and top radius kept) and the fillet's major radius."""
     occ = gmsh.model.occ
     d = {
         "axis_point": [0.0, 0.0, 0.0], "axis_direction": [0.0, 0.0, 1.0],
@@ -328,6 +366,24 @@ def build_cone_sphere_torus():
         "bolt_hole_radius": 3.0, "bolt_hole_circle_radius": 22.0, "bolt_hole_count": 4,
         "bolt_hole_note": "through the base plate, at 0, 90, 180, 270 degrees from +x",
     }
+    over = dict(over or {})
+    keep_center_z = over.pop("cap_sphere_center_z", None)
+    if keep_center_z is not None:
+        # The sphere |x - (0, 0, zc)| = R against the cone line
+        # rho = (za - z) t (t = tan(half angle), apex at za):
+        # (t^2 + 1) z^2 - 2 (za t^2 + zc) z + za^2 t^2 + zc^2 - R^2 = 0.
+        rs0, hc0, rc0 = d["shaft_radius"], d["cone_height"], d["cone_top_radius"]
+        z0 = d["base_thickness"] + d["shaft_height"]
+        t = (rs0 - rc0) / hc0
+        za = z0 + hc0 * rs0 / (rs0 - rc0)
+        radius = over.get("cap_sphere_radius", d["cap_sphere_radius"])
+        qa, qb = t * t + 1.0, -2.0 * (za * t * t + keep_center_z)
+        qc = za * za * t * t + keep_center_z ** 2 - radius ** 2
+        z_top = (-qb + math.sqrt(qb * qb - 4.0 * qa * qc)) / (2.0 * qa)
+        assert z0 < z_top < za, z_top
+        over["cone_height"] = z_top - z0
+        over["cone_top_radius"] = (za - z_top) * t
+    d.update(over)
     rb, tb = d["base_radius"], d["base_thickness"]
     rs, hs, rf = d["shaft_radius"], d["shaft_height"], d["shaft_fillet_radius"]
     hc, rc = d["cone_height"], d["cone_top_radius"]
@@ -337,6 +393,9 @@ def build_cone_sphere_torus():
     # The cap is the part of the sphere above the cone's top plane; its centre
     # sits below that plane so that the sphere cuts it in the cone's top circle.
     z_sphere = z_cone_top - math.sqrt(rsph ** 2 - rc ** 2)
+    if keep_center_z is not None:
+        assert abs(z_sphere - keep_center_z) < 1e-9, (z_sphere, keep_center_z)
+        z_sphere = keep_center_z
     d["cap_sphere_center_z"] = z_sphere
     d["cap_height"] = z_sphere + rsph - z_cone_top
 
@@ -721,13 +780,75 @@ def build_bspline_face():
             "edges", d, surfaces, mesh)
 
 
+def build_beam(over=None):
+    """A plain box, long in x: the part of the width variant (a distance
+    between two parallel planes changed, the face y = 0 kept)."""
+    d = {"beam_size_x": 100.0, "beam_size_y": 10.0, "beam_size_z": 10.0,
+         "beam_origin": [0.0, 0.0, 0.0]}
+    d.update(over or {})
+    L, W, H = d["beam_size_x"], d["beam_size_y"], d["beam_size_z"]
+    gmsh.model.occ.addBox(0, 0, 0, L, W, H)
+    surfaces = [
+        plane("face x=0", [0, 0, 0], [-1, 0, 0]), plane("face x=L", [L, 0, 0], [1, 0, 0]),
+        plane("face y=0", [0, 0, 0], [0, -1, 0]), plane("face y=W", [0, W, 0], [0, 1, 0]),
+        plane("face z=0", [0, 0, 0], [0, 0, -1]), plane("face z=H", [0, 0, H], [0, 0, 1]),
+    ]
+    mesh = {"Mesh.MeshSizeMin": 1.0, "Mesh.MeshSizeMax": 2.3}
+    return "box 100 x 10 x 10 (x along the length)", d, surfaces, mesh
+
+
 PARTS = {
     "boss_block": build_boss_block,
     "filleted_box": build_filleted_box,
     "cone_sphere_torus": build_cone_sphere_torus,
     "fillet_junctions": build_fillet_junctions,
     "bspline_face": build_bspline_face,
+    "beam": build_beam,
 }
+
+# Changed-CAD variants of the parts (--variants): name -> the dimensions that
+# change (overrides of the builder's dimensions) and what changes, in words.
+# The identity variant "base" (no change) is written for every part listed,
+# as the CAD truth of the base part at the sampling density of the variants.
+VARIANTS = {
+    "boss_block": {
+        "boss_height_20": ({"boss_height": 20.0}, "boss height 15 -> 20"),
+        "boss_height_10": ({"boss_height": 10.0}, "boss height 15 -> 10"),
+        "boss_radius_14": ({"boss_radius": 14.0}, "boss radius 12 -> 14"),
+        "boss_radius_10": ({"boss_radius": 10.0}, "boss radius 12 -> 10"),
+        "boss_fillet_radius_4": ({"boss_fillet_radius": 4.0}, "boss base fillet radius 3 -> 4"),
+        "boss_fillet_radius_2": ({"boss_fillet_radius": 2.0}, "boss base fillet radius 3 -> 2"),
+        "boss_chamfer_length_3": ({"boss_chamfer_length": 3.0},
+                                  "boss chamfer 2 x 45 deg -> 3 x 45 deg"),
+        "boss_chamfer_angle_60": ({"boss_chamfer_angle_deg": 60.0},
+                                  "boss chamfer angle to the top face 45 -> 60 deg, its leg on "
+                                  "the top face kept (2 mm: it meets the top face in the same "
+                                  "circle, radius 10); its leg on the side 2 -> 2 tan 60 deg"),
+        "boss_moved": ({"boss_center_x": 40.0, "boss_center_y": 40.0},
+                       "boss (with its fillet and chamfer) moved by (5, 10) on the block top"),
+        "hole_radius_8": ({"hole_radius": 8.0}, "through hole radius 6 -> 8"),
+        "hole_radius_4": ({"hole_radius": 4.0}, "through hole radius 6 -> 4"),
+    },
+    "cone_sphere_torus": {
+        "cap_sphere_radius_11": ({"cap_sphere_radius": 11.0,
+                                  "cap_sphere_center_z": 42.0 - math.sqrt(17.0)},
+                                 "cap sphere radius 9 -> 11, its centre kept (z = 42 - sqrt 17): "
+                                 "the cone, apex and half angle kept, now meets the sphere higher "
+                                 "up, where its line leaves the sphere"),
+        "shaft_radius_13": ({"shaft_radius": 13.0},
+                            "shaft radius 12 -> 13; the fillet keeps its radius 4 (torus major "
+                            "16 -> 17), the cone goes from radius 13 to 8 over the same height"),
+    },
+    "filleted_box": {
+        "edge_fillet_radius_8": ({"edge_fillet_radius": 8.0},
+                                 "edge fillet radius 6 -> 8 (12 cylinders, 8 sphere corners)"),
+    },
+    "beam": {
+        "width20": ({"beam_size_y": 20.0}, "beam width (y) 10 -> 20, the face y = 0 kept"),
+    },
+}
+# Sizes of the variants' CAD surface samples: the part's mesh sizes times this.
+VARIANT_SAMPLE_SCALE = 0.5
 
 
 # ----------------------------------------------------------------------------
@@ -1042,11 +1163,15 @@ def scaled_sizes(size_options, scale):
     return size_options
 
 
-def setup_part(name, scale=1.0):
-    """Build part `name` in a new Gmsh model and set its mesh options (sizes
-    times `scale`); returns the builder's output and the options set."""
+def setup_part(name, scale=1.0, overrides=None):
+    """Build part `name` (with the dimensions `overrides` changed) in a new
+    Gmsh model and set its mesh options (sizes times `scale`); returns the
+    builder's output and the options set."""
     gmsh.model.add(name)
-    description, dims, candidates, size_options = PARTS[name]()
+    if overrides is None:
+        description, dims, candidates, size_options = PARTS[name]()
+    else:
+        description, dims, candidates, size_options = PARTS[name](overrides)
     gmsh.model.occ.synchronize()
 
     options = dict(COMMON_MESH_OPTIONS)
@@ -1088,12 +1213,13 @@ def fine_scale(name, target_triangles):
     return scale, history
 
 
-def generate(name, out_dir, scale=1.0, out_name=None, fine=None):
+def generate(name, out_dir, scale=1.0, out_name=None, fine=None, overrides=None):
     """Mesh part `name` and write <out_name>.vtu/.json (out_name defaults to
     name). scale multiplies the part's mesh sizes (fine versions); `fine` is
-    recorded in the JSON."""
+    recorded in the JSON; `overrides` changes dimensions (a variant meshed
+    with the part's own options, for the checker's self-test)."""
     out_name = out_name or name
-    description, dims, candidates, options, refine = setup_part(name, scale)
+    description, dims, candidates, options, refine = setup_part(name, scale, overrides)
     if fine is None:
         gmsh.model.mesh.generate(3)
     else:
@@ -1147,6 +1273,7 @@ def generate(name, out_dir, scale=1.0, out_name=None, fine=None):
                    "curves": len(curves), "surfaces_by_type": by_type},
         "bounding_box": {"min": lo.tolist(), "max": hi.tolist()},
         "volume": float(signed_volumes(points, tets).sum()),
+        "cad_volume": float(gmsh.model.occ.getMass(3, single_volume())),
         "orientation": {"gmsh_negative_tets_flipped": negative,
                         "convention": "(p1-p0).((p2-p0)x(p3-p0)) > 0 for every tet"},
         "max_node_distance_by_type": worst,
@@ -1165,6 +1292,123 @@ def generate(name, out_dir, scale=1.0, out_name=None, fine=None):
         print(f"  arrays, checks and files {time.perf_counter() - start:.1f} s", flush=True)
     gmsh.model.remove()
     return info
+
+
+# ----------------------------------------------------------------------------
+# Changed-CAD variants (--variants): the CAD truth of a part with one
+# dimension changed, for the tests of FEMorph Deform (thesis 2.5). No volume
+# mesh: a fine triangle mesh of the variant's boundary (Gmsh 2D, the part's
+# sizes times VARIANT_SAMPLE_SCALE) and the JSON of its faces.
+# ----------------------------------------------------------------------------
+
+def write_vtp(path, points, triangles, cad_face):
+    """Triangles with the cell array CADFace (Gmsh surface tag), VTK XML
+    PolyData, appended raw binary, zlib, 32-bit connectivity."""
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+    poly = vtkPolyData()
+    pts = vtkPoints()
+    pts.SetDataTypeToDouble()
+    pts.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64), deep=1))
+    poly.SetPoints(pts)
+    n = len(triangles)
+    conn = np.hstack([np.full((n, 1), 3, dtype=np.int64), triangles.astype(np.int64)]).ravel()
+    cells = vtkCellArray()
+    cells.SetCells(n, numpy_to_vtkIdTypeArray(conn, deep=1))
+    poly.SetPolys(cells)
+    poly.GetCellData().AddArray(int_array("CADFace", cad_face))
+    w = vtkXMLPolyDataWriter()
+    w.SetFileName(path)
+    w.SetInputData(poly)
+    w.SetCompressorTypeToZLib()
+    w.SetDataModeToAppended()
+    w.EncodeAppendedDataOff()
+    w.SetIdTypeToInt32()
+    assert w.Write() == 1, f"VTK could not write {path}"
+
+
+def generate_variant(name, variant, overrides, change, out_dir, base_labels=None):
+    """Write <out_dir>/<name>__<variant>.json/.vtp: the part built with the
+    dimensions `overrides` changed; returns the JSON's content. base_labels:
+    the labels the faces must have (the base part's)."""
+    out_name = f"{name}__{variant}"
+    description, dims, candidates, options, refine = setup_part(
+        name, VARIANT_SAMPLE_SCALE, overrides)
+    gmsh.model.mesh.generate(2)
+    triangles, nodes = {}, []
+    for _, stag in gmsh.model.getEntities(2):
+        types, _, ntags = gmsh.model.mesh.getElements(2, stag)
+        assert list(types) == [GMSH_TRIANGLE], f"surface {stag}: element types {types}"
+        triangles[stag] = np.asarray(ntags[0], dtype=np.int64).reshape(-1, 3)
+        nodes.append(triangles[stag].ravel())
+    used = np.unique(np.concatenate(nodes))
+    all_tags, all_coords, _ = gmsh.model.mesh.getNodes()
+    all_tags = np.asarray(all_tags, dtype=np.int64)
+    order = np.argsort(all_tags)
+    pos = np.searchsorted(all_tags[order], used)
+    assert np.all(all_tags[order][pos] == used)
+    points = np.asarray(all_coords, dtype=float).reshape(-1, 3)[order[pos]]
+    triangles = {t: np.searchsorted(used, tris) for t, tris in triangles.items()}
+
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    part_size = float(np.linalg.norm(hi - lo))
+    faces, split = describe_surfaces(points, triangles, candidates, part_size)
+    assert not split, f"{out_name}: construction surfaces split into several faces: {split}"
+    labels = sorted(f["label"] for f in faces)
+    assert base_labels is None or labels == sorted(base_labels), (
+        f"{out_name}: face labels differ from the base part's")
+    curves = describe_curves(part_size)
+    tags = sorted(triangles)
+    all_tris = np.vstack([triangles[t] for t in tags])
+    cad_face = np.concatenate([np.full(len(triangles[t]), t, dtype=np.int32) for t in tags])
+    by_type = {}
+    for f in faces:
+        by_type[f["primitive"]] = by_type.get(f["primitive"], 0) + 1
+    info = {
+        "name": out_name,
+        "base_part": name,
+        "variant": variant,
+        "change": change,
+        "changed_dimensions": {k: v for k, v in overrides.items()},
+        "description": description,
+        "units": "mm",
+        "generator": "Data/generate_parts.py --variants (Gmsh OpenCASCADE kernel)",
+        "gmsh_version": gmsh.option.getString("General.Version"),
+        "dimensions": dims,
+        "cad_volume": float(gmsh.model.occ.getMass(3, single_volume())),
+        "bounding_box": {"min": lo.tolist(), "max": hi.tolist()},
+        "sample": {"file": out_name + ".vtp",
+                   "what": ("Gmsh surface mesh of the variant's CAD boundary, nodes on the CAD "
+                            "surfaces; cell array CADFace = the face's tag below"),
+                   "size_scale": VARIANT_SAMPLE_SCALE, "mesh_options": options,
+                   "mesh_refinement": refine,
+                   "points": int(len(points)), "triangles": int(len(all_tris))},
+        "counts": {"surfaces": len(faces), "curves": len(curves), "surfaces_by_type": by_type},
+        "faces": faces,
+        "curves": curves,
+    }
+    write_vtp(os.path.join(out_dir, out_name + ".vtp"), points, all_tris, cad_face)
+    with open(os.path.join(out_dir, out_name + ".json"), "w") as f:
+        json.dump(info, f, indent=1)
+        f.write("\n")
+    gmsh.model.remove()
+    return info
+
+
+def generate_variants(out_dir, parts=None):
+    """The identity variant <part>__base and every variant of VARIANTS for
+    the parts given (all by default), into out_dir."""
+    os.makedirs(out_dir, exist_ok=True)
+    rows = []
+    for name, variants in VARIANTS.items():
+        if parts and name not in parts:
+            continue
+        base = generate_variant(name, "base", {}, "none (the base part's CAD)", out_dir)
+        base_labels = [f["label"] for f in base["faces"]]
+        rows.append(base)
+        for variant, (overrides, change) in variants.items():
+            rows.append(generate_variant(name, variant, overrides, change, out_dir, base_labels))
+    return rows
 
 
 # ----------------------------------------------------------------------------
@@ -1751,6 +1995,10 @@ def main():
                         help="write only the all-hexahedral parts, into <out-dir>/hex/ "
                              f"({', '.join(sorted(HEX_PARTS))}; a run without options writes "
                              "them too)")
+    parser.add_argument("--variants", action="store_true",
+                        help="write only the changed-CAD variants, into <out-dir>/variants/ "
+                             "(<part>__<variant>.json/.vtp; a run without options writes them "
+                             "too; with --only, of those parts)")
     parser.add_argument("--mesh-size", type=float, default=None,
                         help="with --step: maximum element size in mm (default: 1/50 of the "
                              "bounding box diagonal; minimum 1/20 of it, plus curvature "
@@ -1758,6 +2006,8 @@ def main():
     args = parser.parse_args()
     if args.hex and (args.fine or args.only or args.step):
         parser.error("--hex does not go with --fine, --only or --step")
+    if args.variants and (args.fine or args.step or args.hex):
+        parser.error("--variants does not go with --fine, --step or --hex")
     if args.step and (args.fine or args.only):
         parser.error("--step does not go with --fine or --only")
     if args.step and not args.out_dir:
@@ -1775,7 +2025,7 @@ def main():
     gmsh.initialize(["generate_parts"], readConfigFiles=False)
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.option.setNumber("General.NumThreads", 1)
-    rows, hex_rows = [], []
+    rows, hex_rows, variant_rows = [], [], []
     try:
         if args.fine:
             start = time.perf_counter()
@@ -1790,15 +2040,18 @@ def main():
         for path in args.step or []:
             rows.append(generate_step(path, args.out_dir, args.mesh_size))
         for name in PARTS:
-            if args.fine or args.step or args.hex or (args.only and name not in args.only):
+            if (args.fine or args.step or args.hex or args.variants
+                    or (args.only and name not in args.only)):
                 continue
             info = generate(name, args.out_dir)
             rows.append(info)
-        if not (args.fine or args.step or args.only):
+        if not (args.fine or args.step or args.only or args.variants):
             hex_dir = os.path.join(args.out_dir, "hex")
             os.makedirs(hex_dir, exist_ok=True)
             for name in HEX_PARTS:
                 hex_rows.append(generate_hex(name, hex_dir))
+        if args.variants or not (args.fine or args.step or args.only or args.hex):
+            variant_rows = generate_variants(os.path.join(args.out_dir, "variants"), args.only)
     finally:
         gmsh.finalize()
 
@@ -1813,6 +2066,10 @@ def main():
             size = os.path.getsize(os.path.join(args.out_dir, info["name"] + ".vtu")) / 1024
             print(f"{info['name']:<{width}} {c['points']:>7} {c['tets']:>7} {c['boundary_triangles']:>6}  "
                   f"{types:<44} {dist:>9.2e}  {size:>7.0f}")
+    for info in variant_rows:
+        size = os.path.getsize(os.path.join(args.out_dir, "variants", info["name"] + ".vtp")) / 1024
+        print(f"variants/{info['name']}: {info['sample']['triangles']} triangles, CAD volume "
+              f"{info['cad_volume']:.3f}, {size:.0f} KB")
     for info in hex_rows:
         c = info["counts"]
         size = os.path.getsize(os.path.join(args.out_dir, "hex", info["name"] + ".vtu")) / 1024
