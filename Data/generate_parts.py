@@ -835,9 +835,11 @@ VARIANTS = {
                                  "cap sphere radius 9 -> 11, its centre kept (z = 42 - sqrt 17): "
                                  "the cone, apex and half angle kept, now meets the sphere higher "
                                  "up, where its line leaves the sphere"),
-        "shaft_radius_13": ({"shaft_radius": 13.0},
+        "shaft_radius_13": ({"shaft_radius": 13.0, "shaft_height": 17.0, "cone_height": 15.0},
                             "shaft radius 12 -> 13; the fillet keeps its radius 4 (torus major "
-                            "16 -> 17), the cone goes from radius 13 to 8 over the same height"),
+                            "16 -> 17); the cone keeps its surface (apex z = 66, half angle "
+                            "18.43 deg), so the shaft meets it 3 mm lower (z = 27) and the "
+                            "cone goes from radius 13 to 8 over 15 mm"),
     },
     "filleted_box": {
         "edge_fillet_radius_8": ({"edge_fillet_radius": 8.0},

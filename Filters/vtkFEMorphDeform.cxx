@@ -347,8 +347,11 @@ bool vtkFEMorphDeform::Execute(
   options.local_region = this->LocalRegion != 0;
 
   femorph::DeformMeshOptions meshOptions;
-  meshOptions.target = this->TargetValue;
-  if (options.type == femorph::DeformationType::Position && std::isnan(meshOptions.target))
+  // No target (NaN or 0, never a valid dimension): measure only. Position
+  // moves by |Translation| unless TargetValue gives the distance.
+  const bool noTarget = std::isnan(this->TargetValue) || this->TargetValue == 0;
+  meshOptions.target = noTarget ? std::numeric_limits<double>::quiet_NaN() : this->TargetValue;
+  if (options.type == femorph::DeformationType::Position && noTarget && options.translation.norm() > 0)
   {
     meshOptions.target = options.translation.norm();
   }
@@ -360,7 +363,7 @@ bool vtkFEMorphDeform::Execute(
   femorph::DeformPlan plan;
   femorph::DeformReport report;
   const femorph::Status deformed =
-    femorph::deform_mesh(mesh, regions, options, meshOptions, plan, report);
+    femorph::deform_mesh(mesh, regions, &seg.Curves, options, meshOptions, plan, report);
   if (this->WasAborted() || report.aborted)
   {
     return true;

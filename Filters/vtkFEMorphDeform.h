@@ -43,10 +43,11 @@
  *   chamfer's largest planar neighbour, the large planes around the object)
  *   and reported in field data `ReferenceRegions`.
  * - TargetValue: the new dimension (mesh units, or degrees for
- *   ChamferAngle); for Position the distance to move along Translation
- *   (NaN: |Translation|). NaN (default) for the other types: measure only:
- *   the output is the input with `RegionRole` and `Deformable` marked and
- *   `CurrentDimension` and `ValidRange` in field data.
+ *   ChamferAngle). NaN (default) or 0: measure only: the output is the
+ *   input with `RegionRole` and `Deformable` marked and `CurrentDimension`
+ *   and `ValidRange` in field data. Position: the distance to move along
+ *   Translation (NaN or 0: |Translation|; a zero Translation: measure
+ *   only).
  * - Translation: Position's displacement (world coordinates, parallel to
  *   the reference plane).
  * - FollowingRegions: replaces the automatic following regions (-1 alone:

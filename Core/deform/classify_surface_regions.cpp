@@ -45,19 +45,26 @@ std::string region_name(const DeformRegions& regions, index_t r) {
   return os.str();
 }
 
-/// Inclined to the control region like a chamfer: a cone, or a plane at 10
-/// to 80 degrees to a planar control (any plane next to a curved control).
+/// Inclined to the control region like a chamfer: its faces meet the
+/// control region's at 20 to 70 degrees (a cone next to a plane normal to
+/// its axis: 90 degrees minus its half angle; next to a coaxial cylinder:
+/// its half angle). A steeper or flatter face is a taper or a step, and
+/// deforms instead.
 bool inclined(const DeformRegions& regions, index_t control, index_t r) {
   const SurfacePrimitive& s = regions.surfaces[r];
-  if (s.type == SurfaceType::Cone) {
-    const double deg = s.half_angle * 180 / kPi;
-    return deg > 10 && deg < 80;
-  }
-  if (s.type != SurfaceType::Plane) return false;
   const SurfacePrimitive& c = regions.surfaces[control];
-  if (c.type != SurfaceType::Plane) return c.type == SurfaceType::Cylinder || c.type == SurfaceType::Cone;
-  const double deg = std::acos(std::min(1.0, std::abs(s.axis.dot(c.axis)))) * 180 / kPi;
-  return deg > 10 && deg < 80;
+  double deg = -1;
+  if (s.type == SurfaceType::Cone) {
+    const double half = s.half_angle * 180 / kPi;
+    if (c.type == SurfaceType::Plane) deg = 90 - half;
+    else if (c.type == SurfaceType::Cylinder) deg = half;
+    else deg = 45;
+  } else if (s.type == SurfaceType::Plane) {
+    if (c.type == SurfaceType::Plane) deg = std::acos(std::min(1.0, std::abs(s.axis.dot(c.axis)))) * 180 / kPi;
+    else if (c.type == SurfaceType::Cylinder || c.type == SurfaceType::Cone)
+      deg = std::asin(std::min(1.0, std::abs(s.axis.dot(c.axis)))) * 180 / kPi;
+  }
+  return deg >= 20 && deg <= 70;
 }
 
 double fillet_radius(const SurfacePrimitive& s) {
@@ -549,6 +556,7 @@ Status classify_surface_regions(const TetMesh& mesh, const DeformRegions& region
       break;
   }
   plan.feature = feature;
+  plan.solve_moved_interior = true;
   plan.current = measure_dimension(plan, regions.surfaces);
   if (!std::isfinite(plan.current)) {
     return Status::failure("the current dimension could not be measured on region " + std::to_string(control) + ".");

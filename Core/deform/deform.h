@@ -101,11 +101,21 @@ struct DeformPlan {
   double current = std::numeric_limits<double>::quiet_NaN();  ///< the dimension now
   double valid_min = std::numeric_limits<double>::quiet_NaN();
   double valid_max = std::numeric_limits<double>::quiet_NaN();
+  /// What limits the range at each end (a surface that would not exist, a
+  /// boundary triangle that would fold and where); empty when capped.
+  std::string limit_min, limit_max;
   /// Geometry of the feature that update_region_surfaces uses (frames,
   /// profile lines, the neighbours each fillet is tangent to).
   struct Feature;
   std::shared_ptr<const Feature> feature;
   double part_size = 0;  ///< bounding-box diagonal
+  /// The inside of the moved regions follows their boundary by 2D mean
+  /// value coordinates, then onto the updated surface (2.5.4.5, step 3):
+  /// where a boundary curve slides along a deformed neighbour (a sphere's
+  /// rim along its cone, a shaft's end along a taper) a map of every vertex
+  /// would leave the ring next to it outside the new region. Off: every
+  /// moved vertex is mapped (Method 1).
+  bool solve_moved_interior = true;
 };
 
 /// 2.5.2: roles of every region for `options`, the reference regions and the
@@ -148,8 +158,10 @@ bool mean_value_coordinates_3d(const Vec3& x, const std::vector<Vec3>& vertices,
                                std::vector<double>& weights);
 
 /// The deformable region (2.5.3): per tet slot 1 when the deformation may
-/// move its vertices: the tets within `reach` of a vertex of a moved region,
-/// expanded by neighbours while it has few inner vertices.
+/// move its vertices: the tets of the vertices nearer (along the mesh's
+/// edges) to a moved region than to every fixed one or within `reach` of a
+/// moved region, and one layer around them, expanded while it has few inner
+/// vertices.
 std::vector<std::uint8_t> extract_deformable_region(const TetMesh& mesh, const DeformPlan& plan, double reach);
 
 /// The parameterisation of 2.5.4.3: which vertices are fixed, mapped or
@@ -232,7 +244,17 @@ struct ReferenceMesh;
 /// a message for a target outside the valid range, a classification that
 /// does not fit the type, or tets left inverted. `regions` receives the
 /// updated surfaces.
-Status deform_mesh(TetMesh& mesh, DeformRegions& regions, const DeformOptions& options,
-                   const DeformMeshOptions& mesh_options, DeformPlan& plan, DeformReport& report);
+/// `curves` (may be null): the boundary curves with their vertices (mesh
+/// ids); the fits of those of moved and deformed regions are refitted after
+/// each step, so that Improve keeps their vertices on them.
+Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCurve>* curves,
+                   const DeformOptions& options, const DeformMeshOptions& mesh_options, DeformPlan& plan,
+                   DeformReport& report);
+
+/// The fits of the curves that bound a moved or deformed region, refitted
+/// on their live vertices (a curve left with too few becomes unclassified,
+/// so its vertices follow the two surfaces).
+void refit_boundary_curves(const TetMesh& mesh, const std::vector<SurfacePrimitive>& surfaces, const DeformPlan& plan,
+                           std::vector<BoundaryCurve>& curves);
 
 }  // namespace femorph

@@ -63,13 +63,23 @@ double largest_move(const TetMesh& mesh, const DeformPlan& plan, const SurfaceUp
   return d;
 }
 
-std::size_t count_inverted(const TetMesh& mesh, const std::vector<Vec3>& points, const std::vector<std::uint8_t>& mask) {
+/// Tets of `mask` (empty: all) with no positive volume at `points`, and
+/// where the first few are.
+std::size_t count_inverted(const TetMesh& mesh, const std::vector<Vec3>& points, const std::vector<std::uint8_t>& mask,
+                           std::string* where = nullptr) {
   std::size_t n = 0;
+  std::ostringstream os;
   for (index_t t = 0; t < mesh.tet_slots(); ++t) {
     if (!mesh.tet_alive(t) || (!mask.empty() && !mask[t])) continue;
     const Tet& T = mesh.tet(t);
-    n += tet_signed_volume(points[T[0]], points[T[1]], points[T[2]], points[T[3]]) <= 0;
+    if (tet_signed_volume(points[T[0]], points[T[1]], points[T[2]], points[T[3]]) > 0) continue;
+    if (n < 3) {
+      const Vec3 c = (points[T[0]] + points[T[1]] + points[T[2]] + points[T[3]]) / 4;
+      os << (n ? "; " : "") << "(" << c.x() << ", " << c.y() << ", " << c.z() << ")";
+    }
+    ++n;
   }
+  if (where) *where = os.str() + (n > 3 ? "; ..." : "");
   return n;
 }
 
@@ -81,8 +91,9 @@ std::string range_text(const DeformPlan& plan) {
 
 }  // namespace
 
-Status deform_mesh(TetMesh& mesh, DeformRegions& regions, const DeformOptions& options,
-                   const DeformMeshOptions& mo, DeformPlan& plan, DeformReport& report) {
+Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCurve>* curves,
+                   const DeformOptions& options, const DeformMeshOptions& mo, DeformPlan& plan,
+                   DeformReport& report) {
   const auto start = Clock::now();
   report = DeformReport();
   const auto progress = [&](double f, const char* what) { return !mo.progress || mo.progress(f, what); };
@@ -113,7 +124,8 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, const DeformOptions& o
     std::ostringstream os;
     os << "TargetValue " << mo.target << " is outside the valid range " << range_text(plan) << " of this "
        << to_string(options.type) << " (now " << plan.current
-       << "): beyond it a neighbouring face degenerates or the part intersects itself.";
+       << "): beyond it a neighbouring face degenerates or the part intersects itself ("
+       << (mo.target > plan.valid_max ? plan.limit_max : plan.limit_min) << ").";
     return Status::failure(os.str());
   }
 
@@ -166,7 +178,8 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, const DeformOptions& o
     t0 = Clock::now();
     reposition_vertices(mesh, regions, param, update, points);
     report.seconds_reposition += seconds_since(t0);
-    const std::size_t inverted = count_inverted(mesh, points, deformable);
+    std::string where;
+    const std::size_t inverted = count_inverted(mesh, points, deformable, &where);
     const int steps_taken = report.steps + 1;
     const double remaining_steps = std::abs(mo.target - value) / std::abs(step);
     if (inverted > 0 && mo.improve && steps_taken + 2 * remaining_steps <= mo.max_steps) {
@@ -175,8 +188,8 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, const DeformOptions& o
     }
     if (inverted > 0 && !mo.improve) {
       std::ostringstream os;
-      os << "the change to " << next << " inverts " << inverted
-         << " tetrahedra; turn Improve on (it takes the change in steps and repairs them) or take a smaller change.";
+      os << "the change to " << next << " inverts " << inverted << " tetrahedra (centres " << where
+         << "); turn Improve on (it takes the change in steps and repairs them) or take a smaller change.";
       return Status::failure(os.str());
     }
     report.inverted_before_improve += inverted;
@@ -191,28 +204,48 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, const DeformOptions& o
       if (o >= 0 && o < static_cast<index_t>(input_region.size())) input_region[o] = 1;
     }
     regions.surfaces = update.surfaces;
+    if (curves) refit_boundary_curves(mesh, regions.surfaces, plan, *curves);
     report.surface_unknowns += param.surfaces.unknowns.size() + param.curves.unknowns.size();
     report.inner_unknowns += param.inner.unknowns.size();
     if (mo.improve) {
       t0 = Clock::now();
-      // The deformable region and one layer around it.
-      std::vector<std::uint8_t> mask;
-      if (!deformable.empty()) {
-        mask = deformable;
+      // The deformable region and one layer around it, per input tet (the
+      // mask of phased_odt); the vertices of fixed regions frozen: they do
+      // not move at all.
+      std::vector<std::uint8_t> grown = deformable;
+      if (!grown.empty()) {
         std::vector<std::uint8_t> touched(mesh.vertex_slots(), 0);
         for (index_t tt = 0; tt < mesh.tet_slots(); ++tt)
-          if (mesh.tet_alive(tt) && mask[tt])
+          if (mesh.tet_alive(tt) && grown[tt])
             for (const index_t v : mesh.tet(tt)) touched[v] = 1;
         for (index_t tt = 0; tt < mesh.tet_slots(); ++tt)
-          if (mesh.tet_alive(tt) && !mask[tt])
-            for (const index_t v : mesh.tet(tt)) mask[tt] |= touched[v];
+          if (mesh.tet_alive(tt) && !grown[tt])
+            for (const index_t v : mesh.tet(tt)) grown[tt] |= touched[v];
       }
-      const BoundaryGeometry geometry = make_boundary_geometry(regions.surfaces, {});
+      std::vector<std::uint8_t> on_fixed(mesh.vertex_slots(), 0);
+      for (index_t tt = 0; tt < mesh.tet_slots(); ++tt) {
+        if (!mesh.tet_alive(tt)) continue;
+        for (int f = 0; f < 4; ++f) {
+          const index_t r = mesh.face_region(tt, f);
+          if (mesh.is_boundary_face(tt, f) &&
+              (r < 0 || r >= static_cast<index_t>(plan.roles.size()) || plan.roles[r] == RegionRole::Fixed))
+            for (int k = 0; k < 3; ++k) on_fixed[mesh.tet(tt)[kTetFace[f][k]]] = 1;
+        }
+      }
+      std::vector<std::uint8_t> mask(input_region.size(), 1);
+      if (!grown.empty()) std::fill(mask.begin(), mask.end(), 0);
+      for (index_t tt = 0; tt < mesh.tet_slots(); ++tt) {
+        const index_t o = mesh.tet_alive(tt) ? mesh.tet_origin(tt) : kInvalidIndex;
+        if (o >= 0 && o < static_cast<index_t>(mask.size()) && !grown.empty() && grown[tt]) mask[o] = 1;
+      }
+      const BoundaryGeometry geometry =
+          make_boundary_geometry(regions.surfaces, curves ? *curves : std::vector<BoundaryCurve>());
       const ImproveTarget target = make_improve_target(mesh, &geometry, &reference);
       for (const std::string& w : target.warnings) report.warnings.push_back(w);
       PhasedOdtOptions po;
       po.quality_floor = mo.quality_floor;
       po.tet_mask = std::move(mask);
+      po.frozen_vertices = std::move(on_fixed);
       po.sort_min_tets = std::numeric_limits<std::size_t>::max();  // keep ids: the origin of each tet is tracked
       const PhasedOdtStats stats = phased_odt(mesh, geometry, target.view(), po);
       if (!stats.remaining_inverted.empty()) {

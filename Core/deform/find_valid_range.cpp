@@ -56,17 +56,22 @@ void find_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformP
     return;
   }
   std::vector<Vec3> points;
+  std::string why;
   const auto valid = [&](double value) {
     const SurfaceUpdate update = update_region_surfaces(plan, regions, value);
-    if (!update.error.empty()) return false;
+    if (!update.error.empty()) {
+      why = update.error;
+      return false;
+    }
     reposition_vertices(mesh, regions, param, update, points);
-    return boundary_unfolded(mesh, regions, plan, update, points);
+    return boundary_unfolded(mesh, regions, plan, update, points, &why);
   };
   const bool angle = plan.options.type == DeformationType::ChamferAngle;
   const double c = plan.current;
   const double first = angle ? 0.5 : 0.01 * plan.part_size;
   const double cap = angle ? 180.0 : 10 * plan.part_size;
-  const auto search = [&](double sign) {
+  const auto search = [&](double sign, std::string& limit) {
+    limit.clear();
     double good = c, step = first;
     double bad = std::numeric_limits<double>::quiet_NaN();
     while (step <= cap) {
@@ -79,14 +84,21 @@ void find_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformP
       step *= 2;
     }
     if (std::isnan(bad)) return good;
+    valid(bad);
+    limit = why;
     for (int i = 0; i < 40 && std::abs(bad - good) > 1e-9 * std::max(1.0, std::abs(c)); ++i) {
       const double mid = 0.5 * (good + bad);
-      (valid(mid) ? good : bad) = mid;
+      if (valid(mid)) {
+        good = mid;
+      } else {
+        bad = mid;
+        limit = why;
+      }
     }
     return good;
   };
-  plan.valid_max = search(+1);
-  plan.valid_min = search(-1);
+  plan.valid_max = search(+1, plan.limit_max);
+  plan.valid_min = search(-1, plan.limit_min);
 }
 
 }  // namespace femorph

@@ -104,12 +104,21 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
 
   // Kinds of the boundary vertices (2.5.4.5's vertex types).
   std::vector<std::vector<index_t>> vregions(ns);
+  std::vector<std::uint8_t> bounded(plan.roles.size(), 0);  // the region has a curve
   for (index_t s = 0; s < ns; ++s) {
     auto& list = vregions[s];
     for (index_t k = surface.vertex_offsets[s]; k < surface.vertex_offsets[s + 1]; ++k) {
       const index_t r = tri_region[surface.vertex_triangles[k]];
       if (std::find(list.begin(), list.end(), r) == list.end()) list.push_back(r);
     }
+    if (list.size() > 1) {
+      for (const index_t r : list) {
+        if (r >= 0 && r < static_cast<index_t>(bounded.size())) bounded[r] = 1;
+      }
+    }
+  }
+  for (index_t s = 0; s < ns; ++s) {
+    const auto& list = vregions[s];
     const index_t v = surface.source_vertex[s];
     bool fixed = false, moved = false;
     for (const index_t r : list) {
@@ -119,6 +128,10 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
     }
     if (fixed) {
       out.kind[v] = Param::Fixed;
+    } else if (moved && plan.solve_moved_interior && list.size() == 1 && list[0] >= 0 &&
+               bounded[list[0]]) {
+      out.kind[v] = Param::Surface;
+      out.region[v] = list[0];
     } else if (moved) {
       out.kind[v] = Param::Mapped;
       for (const index_t r : list) {

@@ -13,8 +13,11 @@ namespace femorph {
 
 namespace {
 
-/// Alternating projections onto the fitted surfaces of `regions` (one
-/// surface: its closest point).
+/// The point of the intersection of the fitted surfaces of `regions` near
+/// p: Newton steps on their signed distances (the minimum-norm step of the
+/// linearised system) while their normals are independent, alternating
+/// projections where they are nearly tangent (G1 curves). One surface: its
+/// closest point.
 Vec3 project(const std::vector<SurfacePrimitive>& surfaces, const std::vector<index_t>& regions, Vec3 p, double tol) {
   std::vector<const SurfacePrimitive*> list;
   for (const index_t r : regions) {
@@ -23,11 +26,24 @@ Vec3 project(const std::vector<SurfacePrimitive>& surfaces, const std::vector<in
     }
   }
   if (list.empty()) return p;
-  const int iterations = list.size() == 1 ? 1 : 100;
-  for (int it = 0; it < iterations; ++it) {
-    const Vec3 before = p;
-    for (const SurfacePrimitive* s : list) p = closest_point(*s, p);
-    if ((p - before).norm() <= tol) break;
+  if (list.size() == 1) return closest_point(*list[0], p);
+  const int m = static_cast<int>(std::min<std::size_t>(list.size(), 3));
+  for (int it = 0; it < 200; ++it) {
+    Eigen::Matrix<double, 3, Eigen::Dynamic> n(3, m);
+    Eigen::VectorXd d(m);
+    for (int k = 0; k < m; ++k) {
+      d(k) = signed_distance(*list[k], p);
+      n.col(k) = surface_normal(*list[k], p);
+    }
+    if (d.cwiseAbs().maxCoeff() <= tol) break;
+    const Eigen::MatrixXd g = n.transpose() * n;
+    Eigen::LDLT<Eigen::MatrixXd> ldlt(g);
+    const double conditioning = g.diagonal().minCoeff() > 0 ? std::abs(g.determinant()) : 0;
+    if (conditioning > 1e-6 && ldlt.info() == Eigen::Success) {
+      p -= n * ldlt.solve(d);
+    } else {
+      for (const SurfacePrimitive* s : list) p = closest_point(*s, p);
+    }
   }
   return p;
 }

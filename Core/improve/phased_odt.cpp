@@ -43,10 +43,11 @@ std::size_t count_inverted(const TetMesh& mesh, std::vector<index_t>* ids = null
 
 /// Vertices that may change: all of whose tets are flagged (a tet inherits
 /// the flag of the input tet it comes from), and not on the boundary when it
-/// is fixed. Empty: every vertex.
+/// is fixed, and not frozen. Empty: every vertex.
 std::vector<std::uint8_t> movable_vertices(const TetMesh& mesh, const PhasedOdtOptions& options) {
   const std::vector<std::uint8_t>& tet_mask = options.tet_mask;
-  if (tet_mask.empty() && !options.fix_boundary) return {};
+  const std::vector<std::uint8_t>& frozen = options.frozen_vertices;
+  if (tet_mask.empty() && !options.fix_boundary && frozen.empty()) return {};
   std::vector<std::uint8_t> in(static_cast<std::size_t>(mesh.vertex_slots()), 0), out(in.size(), 0);
   for (index_t t = 0; t < mesh.tet_slots(); ++t) {
     if (!mesh.tet_alive(t)) continue;
@@ -56,7 +57,8 @@ std::vector<std::uint8_t> movable_vertices(const TetMesh& mesh, const PhasedOdtO
     for (const index_t v : mesh.tet(t)) (flagged ? in : out)[v] = 1;
   }
   for (std::size_t v = 0; v < in.size(); ++v)
-    in[v] = in[v] && !out[v] && !(options.fix_boundary && mesh.on_boundary(static_cast<index_t>(v)));
+    in[v] = in[v] && !out[v] && !(options.fix_boundary && mesh.on_boundary(static_cast<index_t>(v))) &&
+            !(v < frozen.size() && frozen[v]);
   return in;
 }
 

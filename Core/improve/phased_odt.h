@@ -84,6 +84,9 @@ struct PhasedOdtOptions {
   /// vertices all of whose tets are flagged move, and only edges between such
   /// vertices are split, collapsed or flipped. Empty: the whole mesh.
   std::vector<std::uint8_t> tet_mask;
+  /// Vertices (by slot) that must stay exactly where they are, with their
+  /// edges (Deform's fixed regions). Empty: none.
+  std::vector<std::uint8_t> frozen_vertices;
   /// Leave a mesh that needs nothing as it is, unchanged and fast (an
   /// acceptance case of Improve, docs/ARCHITECTURE.md): no inverted tet,
   /// every tet at or above quality_floor, no edge beyond the density

@@ -268,7 +268,7 @@ def on_surfaces(mesh, variant_json, base_json, tol=None):
     label_of_tag = {f["tag"]: f["label"] for f in base_json["faces"]}
     variant_faces = _faces_by_label(variant_json)
     slots, tris, _ = mesh.boundary()
-    tags = mesh.cad_face.reshape(-1)[slots]
+    tags = boundary_face_tags(mesh, slots, tris, label_of_tag, variant_faces)
     res = {"tol": tol, "per_label": {}}
     unlabelled = int(np.count_nonzero(~np.isin(tags, list(label_of_tag))))
     res["boundary_faces_without_cad_face"] = unlabelled
@@ -380,6 +380,46 @@ def volume(mesh):
 # Fixed faces
 # ----------------------------------------------------------------------------
 
+def boundary_face_tags(mesh, slots, tris, label_of_tag, variant_faces):
+    """The CAD face tag of every boundary face of a mesh an editor changed.
+    CADFace is per tet face, and an editor that makes new tets copies its
+    parent's four values (cell data), so a new tet's own face order does not
+    match them: the tag of a boundary face is its own CADFace value when that
+    names a face whose variant surface its three vertices lie on, else the
+    one among its tet's values whose variant surface is nearest to them,
+    else (when that one's does not pass through them either) the nearest of
+    all faces'. A face of the wrong surface still fails: its vertices lie on
+    no face's."""
+    cad = mesh.cad_face.reshape(-1, 4)
+    own = mesh.cad_face.reshape(-1)[slots].copy()
+    tets = slots // 4
+    all_tags = [t for t in label_of_tag if label_of_tag[t] in variant_faces]
+
+    def dist(tag, x):
+        faces = variant_faces.get(label_of_tag.get(int(tag), None), None)
+        if not faces:
+            return np.full(len(x), np.inf)
+        return np.min([surface_distance(f, x) for f in faces], axis=0)
+
+    out = own.copy()
+    x = mesh.points[tris]  # (n, 3, 3)
+    flat = x.reshape(-1, 3)
+    scale = float(np.linalg.norm(flat.max(axis=0) - flat.min(axis=0))) if len(flat) else 1.0
+    # Faces whose own tag fits: keep.
+    fits = np.zeros(len(slots), dtype=bool)
+    for tag in np.unique(own):
+        sel = own == tag
+        d = dist(tag, x[sel].reshape(-1, 3)).reshape(-1, 3).max(axis=1)
+        fits[np.nonzero(sel)[0]] = d <= 1e-6 * scale
+    for i in np.nonzero(~fits)[0]:
+        cands = [int(t) for t in cad[tets[i]] if int(t) in label_of_tag] or all_tags
+        best = min(cands, key=lambda t: float(dist(t, x[i]).max()))
+        if float(dist(best, x[i]).max()) > 1e-6 * scale:
+            best = min(all_tags, key=lambda t: float(dist(t, x[i]).max()))
+        out[i] = best
+    return out
+
+
 def labels_of_points(mesh, base_json):
     """Per boundary point id: the set of CAD labels of its boundary faces."""
     label_of_tag = {f["tag"]: f["label"] for f in base_json["faces"]}
@@ -395,7 +435,8 @@ def labels_of_points(mesh, base_json):
 
 def fixed_unchanged(base_mesh, deformed_mesh, labels, base_json):
     """The points of the base mesh lying only on faces with the given labels
-    keep their coordinates bit for bit in the deformed mesh (same ids)."""
+    keep their coordinates bit for bit in the deformed mesh (found by
+    their coordinates: an editor may renumber the points it keeps)."""
     if isinstance(base_mesh, (str, vtkUnstructuredGrid)):
         base_mesh = read_mesh(base_mesh)
     if isinstance(deformed_mesh, (str, vtkUnstructuredGrid)):
@@ -408,13 +449,12 @@ def fixed_unchanged(base_mesh, deformed_mesh, labels, base_json):
     ids = np.array(sorted(v for v, ls in labels_of_points(base_mesh, base_json).items()
                           if ls <= wanted), dtype=np.int64)
     res = {"points": int(len(ids)), "unknown_labels": unknown}
-    if len(deformed_mesh.points) < len(base_mesh.points):
-        res.update({"changed": int(len(ids)), "max_move": float("inf"), "ok": False,
-                    "error": "the deformed mesh has fewer points than the base"})
-        return res
     a = base_mesh.points[ids]
-    b = deformed_mesh.points[ids]
-    same = np.all(a.view(np.int64) == b.view(np.int64), axis=1)
+    # The same coordinates, bit for bit, somewhere in the deformed mesh (an
+    # editor may renumber the points it keeps).
+    have = {row.tobytes() for row in np.ascontiguousarray(deformed_mesh.points)}
+    same = np.array([np.ascontiguousarray(row).tobytes() in have for row in a], dtype=bool)
+    b = a.copy()
     res["changed"] = int(np.count_nonzero(~same))
     res["max_move"] = float(np.max(np.linalg.norm(a - b, axis=1))) if len(ids) else 0.0
     res["ok"] = res["changed"] == 0 and not unknown and len(ids) > 0
