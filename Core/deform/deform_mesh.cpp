@@ -162,6 +162,8 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCu
       graph = region_adjacency(mesh, regions.size());
       s = classify_surface_regions(mesh, regions, graph, options, plan);
       if (!s) return s;
+      // Position has no dimension on the surfaces: the distance moved so far.
+      if (options.type == DeformationType::Position) plan.current = value;
     }
     first = false;
     const double next = std::abs(mo.target - value) <= std::abs(step) + tol ? mo.target : value + step;
@@ -251,7 +253,13 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCu
       if (!stats.remaining_inverted.empty()) {
         std::ostringstream os;
         os << stats.remaining_inverted.size() << " tetrahedra stay inverted after the change to " << next
-           << " and its improvement; take a smaller change or a larger MaxSteps.";
+           << " and its improvement (centres";
+        for (std::size_t i = 0; i < std::min<std::size_t>(3, stats.remaining_inverted.size()); ++i) {
+          const Tet& T = mesh.tet(stats.remaining_inverted[i]);
+          const Vec3 c = (mesh.point(T[0]) + mesh.point(T[1]) + mesh.point(T[2]) + mesh.point(T[3])) / 4;
+          os << (i ? "; (" : " (") << c.x() << ", " << c.y() << ", " << c.z() << ")";
+        }
+        os << "); take a smaller change or a larger MaxSteps.";
         return Status::failure(os.str());
       }
       report.seconds_improve += seconds_since(t0);

@@ -36,7 +36,7 @@ double measure_dimension(const DeformPlan& plan, const std::vector<SurfacePrimit
       return std::acos(std::clamp(u.dot(v), -1.0, 1.0)) * 180 / kPi;
     }
     case DeformationType::Position:
-      return 0;
+      return 0;  // the distance moved: deform_mesh counts it
   }
   return std::numeric_limits<double>::quiet_NaN();
 }

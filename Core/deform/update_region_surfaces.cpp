@@ -219,7 +219,7 @@ SurfaceUpdate update_region_surfaces(const DeformPlan& plan, const DeformRegions
       if (!(value > 0)) return failed("a distance must be positive");
       return translate(plan, regions, (value - plan.current) * plan.feature->direction);
     case DeformationType::Position:
-      return translate(plan, regions, value * plan.feature->direction);
+      return translate(plan, regions, (value - plan.current) * plan.feature->direction);
     case DeformationType::CylinderRadius:
       return radial_shift(plan, regions, value);
     case DeformationType::SphereRadius:
