@@ -166,7 +166,6 @@ void RefitCurves(vtkFieldData* fd, const femorph::CompactMesh& compact,
 //------------------------------------------------------------------------------
 vtkFEMorphDeform::vtkFEMorphDeform()
   : vtkFEMorphAlgorithm("FEMorph Deform", Tetrahedra)
-  , TargetValue(std::numeric_limits<double>::quiet_NaN())
 {
   const femorph::DeformOptions options;
   const femorph::DeformMeshOptions meshOptions;
@@ -251,9 +250,8 @@ bool vtkFEMorphDeform::CheckProperties()
   {
     return false;
   }
-  if (std::isinf(this->TargetValue))
+  if (!this->CheckRange("TargetValue", this->TargetValue, -1e300, 1e300, "0 (the default) measures only"))
   {
-    this->Fail("TargetValue is infinite.");
     return false;
   }
   for (int k = 0; k < 3; ++k)
@@ -347,9 +345,9 @@ bool vtkFEMorphDeform::Execute(
   options.local_region = this->LocalRegion != 0;
 
   femorph::DeformMeshOptions meshOptions;
-  // No target (NaN or 0, never a valid dimension): measure only. Position
-  // moves by |Translation| unless TargetValue gives the distance.
-  const bool noTarget = std::isnan(this->TargetValue) || this->TargetValue == 0;
+  // No target (0, never a valid dimension): measure only. Position moves
+  // by |Translation| unless TargetValue gives the distance.
+  const bool noTarget = this->TargetValue == 0;
   meshOptions.target = noTarget ? std::numeric_limits<double>::quiet_NaN() : this->TargetValue;
   if (options.type == femorph::DeformationType::Position && noTarget && options.translation.norm() > 0)
   {

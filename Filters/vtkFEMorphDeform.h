@@ -43,11 +43,11 @@
  *   chamfer's largest planar neighbour, the large planes around the object)
  *   and reported in field data `ReferenceRegions`.
  * - TargetValue: the new dimension (mesh units, or degrees for
- *   ChamferAngle). NaN (default) or 0: measure only: the output is the
- *   input with `RegionRole` and `Deformable` marked and `CurrentDimension`
- *   and `ValidRange` in field data. Position: the distance to move along
- *   Translation (NaN or 0: |Translation|; a zero Translation: measure
- *   only).
+ *   ChamferAngle). 0 (default): measure only: the output is the input with
+ *   `RegionRole` and `Deformable` marked and `CurrentDimension` and
+ *   `ValidRange` in field data. Position: the distance to move along
+ *   Translation (0: |Translation|; a zero Translation: measure only). NaN
+ *   or infinite: an error.
  * - Translation: Position's displacement (world coordinates, parallel to
  *   the reference plane).
  * - FollowingRegions: replaces the automatic following regions (-1 alone:
@@ -156,7 +156,7 @@ protected:
   vtkTypeBool UseControlPoint = 0;
   std::vector<int> ReferenceRegions;
   std::vector<int> FollowingRegions;
-  double TargetValue;
+  double TargetValue = 0;
   double Translation[3] = { 0, 0, 0 };
   vtkTypeBool LocalRegion = 1;
   vtkTypeBool Improve = 1;

@@ -18,6 +18,7 @@
 // file has the details.
 #include "corpus_manifest.h"
 
+#include "vtkFEMorphDeform.h"
 #include "vtkFEMorphHexToTet.h"
 #include "vtkFEMorphImprove.h"
 #include "vtkFEMorphMeshQuality.h"
@@ -912,6 +913,34 @@ std::vector<FilterSpec> Filters()
         grid->GetFieldData()->GetArray("RegionType");
       return CheckFirstOutput(run, rules);
     } });
+  filters.push_back({ "Deform",
+    [](vtkUnstructuredGrid* input, vtkUnstructuredGrid*, const CaseEntry&) {
+      // Distance on the first planar region (RegionType 0; region 0 when
+      // the array says none), measured: classification, valid range and the
+      // deformable region run on every case, the mesh stays as it is.
+      vtkNew<vtkFEMorphDeform> filter;
+      int control = 0;
+      if (vtkDataArray* types = input->GetFieldData()->GetArray("RegionType"))
+      {
+        for (vtkIdType r = 0; r < types->GetNumberOfTuples() && types->GetNumberOfComponents() == 1; ++r)
+        {
+          if (types->GetComponent(r, 0) == 0)
+          {
+            control = static_cast<int>(r);
+            break;
+          }
+        }
+      }
+      filter->SetControlRegion(control);
+      return RunAlgorithm(filter, input, nullptr);
+    },
+    [](vtkUnstructuredGrid*, const FilterRun& run) {
+      MeshRules rules;
+      rules.Types = { VTK_TETRA };
+      rules.FacesShared = true;
+      rules.ClosedBoundary = true;
+      return CheckFirstOutput(run, rules);
+    } });
   filters.push_back({ "HexToTet",
     [](vtkUnstructuredGrid* input, vtkUnstructuredGrid*, const CaseEntry&) {
       vtkNew<vtkFEMorphHexToTet> filter;
@@ -1663,7 +1692,7 @@ void Usage()
        "  --jobs N               children at a time (default 2)\n"
        "  --timeout-scale S      multiply every case's timeout (e.g. 4 under sanitizers)\n"
        "  --filter NAME          only this filter (repeatable): MeshQuality, Segment, Improve,\n"
-       "                         HexToTet, TetToHex\n"
+       "                         Deform, HexToTet, TetToHex\n"
        "  --case TEXT            only cases whose name contains TEXT\n"
        "  --report FILE          every (case, filter) with its outcome, as TSV\n"
        "  --logs DIR             the children's logs (kept for failures; default\n"

@@ -5,6 +5,7 @@
 
 #include "vtkFEMorphAlgorithm.h"
 #include "vtkFEMorphHexToTet.h"
+#include "vtkFEMorphDeform.h"
 #include "vtkFEMorphImprove.h"
 #include "vtkFEMorphMeshQuality.h"
 #include "vtkFEMorphSegment.h"
@@ -58,6 +59,14 @@ vtkSmartPointer<vtkFEMorphAlgorithm> Make()
   return vtkSmartPointer<T>::New();
 }
 
+/// Deform needs a control region: region 0, measuring only.
+vtkSmartPointer<vtkFEMorphAlgorithm> MakeDeform()
+{
+  auto filter = vtkSmartPointer<vtkFEMorphDeform>::New();
+  filter->SetControlRegion(0);
+  return filter;
+}
+
 const FilterCase Filters[] = {
   { "MeshQuality", Make<vtkFEMorphMeshQuality>,
     [](vtkFEMorphAlgorithm* f) { vtkFEMorphMeshQuality::SafeDownCast(f)->SetStretchThreshold(NaN); },
@@ -68,6 +77,9 @@ const FilterCase Filters[] = {
   { "Improve", Make<vtkFEMorphImprove>,
     [](vtkFEMorphAlgorithm* f) { vtkFEMorphImprove::SafeDownCast(f)->SetQualityFloor(NaN); },
     "QualityFloor", true },
+  { "Deform", MakeDeform,
+    [](vtkFEMorphAlgorithm* f) { vtkFEMorphDeform::SafeDownCast(f)->SetTargetValue(NaN); },
+    "TargetValue", true },
   { "HexToTet", Make<vtkFEMorphHexToTet>, {}, nullptr, true },
   { "TetToHex", Make<vtkFEMorphTetToHex>,
     [](vtkFEMorphAlgorithm* f) { vtkFEMorphTetToHex::SafeDownCast(f)->SetMinScaledJacobian(NaN); },
