@@ -2,11 +2,12 @@
 """Build the parts of the FEA acceptance tests (cantilever, plate with a hole)
 and mesh them with linear tetrahedra, in the layout of Data/generate_parts.py.
 
-    /usr/bin/python3 Data/generate_fea_parts.py [--out-dir Data] [--only NAME]
+    /usr/bin/python3 Data/generate_fea_parts.py [--out-dir Data/fea] [--only NAME]
     /usr/bin/python3 Data/generate_fea_parts.py --variant cantilever_width20 --out-dir build/fea
     /usr/bin/python3 Data/generate_fea_parts.py --variant plate_hole_r10 --out-dir build/fea
 
-Parts kept in Data/:
+Parts kept in Data/fea/ (a folder of their own, like Data/hex/: the tests
+that take every Data/*.vtu as a segmentation part do not take these):
   cantilever   beam 100 x 10 x 10 mm (x = length 0..100, y = width 0..10,
                z = height 0..10), uniform mesh size CANTILEVER_SIZE.
   plate_hole   plate 200 x 100 x 2 mm (x 0..200, y 0..100, z 0..2) with a
@@ -27,6 +28,7 @@ are chosen so that the 10-node tet analyses are converged
 """
 
 import argparse
+import json
 import os
 import sys
 
@@ -92,7 +94,7 @@ def build_plate_hole(radius=5.0):
             f"({cx:g}, {cy:g}) (FEA acceptance test)", d, surfaces, mesh)
 
 
-# Kept in Data/.
+# Kept in Data/fea/.
 FEA_PARTS = {
     "cantilever": build_cantilever,
     "plate_hole": build_plate_hole,
@@ -115,19 +117,27 @@ def generate_fea(name, out_dir, quiet=True):
     gmsh.option.setNumber("General.Terminal", 0 if quiet else 1)
     gmsh.option.setNumber("General.NumThreads", 1)
     try:
-        return gp.generate(name, out_dir)
+        info = gp.generate(name, out_dir)
     finally:
         gmsh.finalize()
+    # generate_parts.generate names itself; say which script made the part.
+    info["generator"] = ("Data/generate_fea_parts.py (parts of the FEA tests, meshed and checked "
+                         "by Data/generate_parts.py; Gmsh OpenCASCADE kernel)")
+    with open(os.path.join(out_dir, name + ".json"), "w") as f:
+        json.dump(info, f, indent=1)
+        f.write("\n")
+    return info
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out-dir", default=HERE, help="output folder (default: Data/)")
+    parser.add_argument("--out-dir", default=os.path.join(HERE, "fea"),
+                        help="output folder (default: Data/fea/)")
     parser.add_argument("--only", choices=sorted(FEA_PARTS), action="append",
                         help="generate only this part (repeatable)")
     parser.add_argument("--variant", choices=sorted(FEA_VARIANTS), action="append",
                         help="generate this changed-dimension reference instead (repeatable; "
-                             "not kept in Data/)")
+                             "not kept in Data/fea/)")
     args = parser.parse_args()
     names = args.variant or args.only or list(FEA_PARTS)
     for name in names:

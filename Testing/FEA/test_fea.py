@@ -1,0 +1,109 @@
+#!/usr/bin/python3
+"""ctest FEA.Harness: the CalculiX harness (calculix.py) on fresh Gmsh meshes
+of the FEA parts against the analytic values (Testing/FEA/README.md).
+
+    /usr/bin/python3 Testing/FEA/test_fea.py --work-dir build/fea
+
+Meshes cantilever, cantilever_width20, plate_hole and plate_hole_r10 with
+Data/generate_fea_parts.py into --work-dir, runs the analyses and asserts:
+  - tip deflection within 1 % of F L^3 / (3 E I) (widths 10 and 20);
+  - plate: the through-thickness mean of sigma_xx at the hole within 1 % of
+    Heywood's peak, the peak nodal sigma_xx (mid-plane, a 3D effect above
+    the plane-stress value) within 1.5 %;
+  - the fresh cantilever and plate_hole meshes are the ones in Data/fea/
+    (same counts), and `compare` of Data/fea/cantilever.vtu against the fresh
+    mesh gives a zero difference and passes.
+Exit 77 (skipped) when ccx, gmsh or vtkmodules is missing.
+"""
+
+import argparse
+import json
+import os
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SKIP = 77
+
+CANTILEVER_BOUND = 0.01
+PLATE_MEAN_BOUND = 0.01
+PLATE_PEAK_BOUND = 0.015
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--work-dir", required=True)
+    args = parser.parse_args()
+    try:
+        import numpy  # noqa: F401
+        import gmsh  # noqa: F401
+        sys.path.append("/usr/lib/python3/dist-packages")
+        import vtkmodules  # noqa: F401
+    except ImportError as e:
+        print(f"SKIP: {e}")
+        return SKIP
+    sys.path.insert(0, HERE)
+    import calculix
+    if not calculix.ccx_available():
+        print("SKIP: ccx (CalculiX) not found")
+        return SKIP
+    sys.path.insert(0, calculix.DATA)
+    import generate_fea_parts
+
+    os.makedirs(args.work_dir, exist_ok=True)
+    failures = []
+
+    def check(ok, message):
+        print(("ok    " if ok else "FAIL  ") + message, flush=True)
+        if not ok:
+            failures.append(message)
+
+    start = time.perf_counter()
+    for case in ("cantilever_width10", "cantilever_width20", "plate_hole_r5", "plate_hole_r10"):
+        kind, part, dims = calculix.CASES[case]
+        info = generate_fea_parts.generate_fea(part, args.work_dir)
+        vtu = os.path.join(args.work_dir, part + ".vtu")
+        ref = calculix.analytic(case)
+        if kind == "cantilever":
+            r = calculix.cantilever(vtu)
+            calculix.print_cantilever(r)
+            err = r["tip_deflection"] / ref["value"] - 1.0
+            check(abs(err) <= CANTILEVER_BOUND,
+                  f"{case}: tip deflection {r['tip_deflection']:.6f} mm vs F L^3/(3EI) "
+                  f"{ref['value']:.6f} mm: {100 * err:+.3f} % (bound {100 * CANTILEVER_BOUND:g} %)")
+        else:
+            r = calculix.plate_tension(vtu, dims["radius"])
+            calculix.print_plate(r)
+            err_mean = r["thickness_mean_sxx"] / ref["value"] - 1.0
+            err_peak = r["peak_sxx"] / ref["value"] - 1.0
+            check(abs(err_mean) <= PLATE_MEAN_BOUND,
+                  f"{case}: through-thickness mean sigma_xx {r['thickness_mean_sxx']:.3f} MPa vs "
+                  f"Heywood {ref['value']:.3f} MPa: {100 * err_mean:+.3f} % "
+                  f"(bound {100 * PLATE_MEAN_BOUND:g} %)")
+            check(abs(err_peak) <= PLATE_PEAK_BOUND,
+                  f"{case}: peak sigma_xx {r['peak_sxx']:.3f} MPa vs Heywood {ref['value']:.3f} MPa: "
+                  f"{100 * err_peak:+.3f} % (bound {100 * PLATE_PEAK_BOUND:g} %)")
+        kept = os.path.join(calculix.FEA_DATA, part + ".json")
+        if os.path.isfile(kept):
+            with open(kept) as f:
+                counts = json.load(f)["counts"]
+            check(counts == info["counts"],
+                  f"{part}: fresh mesh has the counts of Data/fea/{part}.json")
+        print(flush=True)
+
+    # compare(): the kept cantilever against a fresh one (identical meshes).
+    r = calculix.compare(os.path.join(calculix.FEA_DATA, "cantilever.vtu"),
+                         os.path.join(args.work_dir, "cantilever.vtu"), "cantilever_width10")
+    check(r["ok"] and abs(r["difference"]) < 1e-9,
+          f"compare cantilever_width10, Data/fea/cantilever.vtu vs fresh: difference "
+          f"{100 * r['difference']:+.2e} %, errors {100 * r['deformed']['error']:+.3f} % / "
+          f"{100 * r['fresh']['error']:+.3f} %")
+    print(f"{time.perf_counter() - start:.0f} s in all")
+    if failures:
+        print(f"{len(failures)} check(s) failed")
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
