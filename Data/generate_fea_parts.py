@@ -66,9 +66,9 @@ def build_cantilever(width=10.0):
     return (f"cantilever beam {L:g} x {B:g} x {H:g} mm (FEA acceptance test)", d, surfaces, mesh)
 
 
-def build_plate_hole(radius=5.0):
+def build_plate_hole(radius=5.0, thickness=2.0):
     occ = gmsh.model.occ
-    d = {"length": 200.0, "width": 100.0, "thickness": 2.0,
+    d = {"length": 200.0, "width": 100.0, "thickness": float(thickness),
          "hole_center_x": 100.0, "hole_center_y": 50.0, "hole_radius": float(radius),
          "axes": "x = length (loaded direction), y = width, z = thickness",
          "held_face": "x = 0", "loaded_face": "x = length"}

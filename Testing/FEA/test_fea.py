@@ -98,6 +98,16 @@ def main():
           f"compare cantilever_width10, Data/fea/cantilever.vtu vs fresh: difference "
           f"{100 * r['difference']:+.2e} %, errors {100 * r['deformed']['error']:+.3f} % / "
           f"{100 * r['fresh']['error']:+.3f} %")
+    # compare() on meshes whose nodes were moved to the new dimension.
+    import mock_deform
+    for case, src in (("cantilever_width20", "cantilever.vtu"), ("plate_hole_r10", "plate_hole.vtu")):
+        moved = os.path.join(args.work_dir, "mock_" + case + ".vtu")
+        assert mock_deform.main([case, os.path.join(calculix.FEA_DATA, src), moved]) == 0
+        r = calculix.compare(moved, os.path.join(args.work_dir, calculix.CASES[case][1] + ".vtu"), case)
+        check(r["ok"], f"compare {case}, mock_deform of Data/fea/{src} vs fresh: figures "
+              f"{r['deformed']['value']:.6g} / {r['fresh']['value']:.6g}, difference "
+              f"{100 * r['difference']:+.3f} %, analytic errors {100 * r['deformed']['error']:+.3f} % / "
+              f"{100 * r['fresh']['error']:+.3f} %")
     print(f"{time.perf_counter() - start:.0f} s in all")
     if failures:
         print(f"{len(failures)} check(s) failed")
