@@ -400,7 +400,36 @@ def cantilever(vtu, keep=None, force=CANTILEVER_FORCE, clamp="full"):
             "ccx_seconds": seconds}
 
 
-def find_hole_axis(points, radius):
+# The through-thickness mean of sigma_xx at the hole: the hole nodes within
+# MEAN_WINDOW_DEG of the y axis through the centre (both sides), in MEAN_BINS
+# equal z bins.
+MEAN_WINDOW_DEG = 8.0
+MEAN_BINS = 10
+
+
+def thickness_mean_at_peak(x, sxx, center, z0, z1):
+    """Through-thickness mean of sigma_xx on the hole where the hoop stress
+    peaks (angle phi = 0 from the y axis through the centre): the plane-
+    stress figure the 2D formulas describe. The nodes within MEAN_WINDOW_DEG
+    are fitted with sigma = a_k + b phi^2 (a_k per z bin k, a common
+    curvature b, phi in radians: the stress falls off quadratically from the
+    peak), and the mean of the a_k is returned (NaN when no bin has nodes)."""
+    phi = np.arctan2(x[:, 0] - center[0], np.abs(x[:, 1] - center[1]))
+    near = np.abs(phi) < math.radians(MEAN_WINDOW_DEG)
+    bins = np.minimum(((x[:, 2] - z0) / (z1 - z0) * MEAN_BINS).astype(int), MEAN_BINS - 1)
+    used = [k for k in range(MEAN_BINS) if np.any(near & (bins == k))]
+    if not used:
+        return float("nan")
+    rows = np.flatnonzero(near)
+    a = np.zeros((len(rows), len(used) + 1))
+    for j, k in enumerate(used):
+        a[bins[rows] == k, j] = 1.0
+    a[:, -1] = phi[rows] ** 2
+    coef = np.linalg.lstsq(a, sxx[rows], rcond=None)[0]
+    return float(np.mean(coef[:-1]))
+
+
+def find_hole_axis(points):
     """Axis point of the through hole (along z) of the plate: the centre of
     the part's bounding box in x and y (our plates are symmetric)."""
     lo, hi = points.min(axis=0), points.max(axis=0)
@@ -419,7 +448,7 @@ def plate_tension(vtu, radius, stress=PLATE_STRESS, keep=None, center=None, curv
     Returns a dict."""
     points, tets = read_vtu(vtu)
     lo, hi = points.min(axis=0), points.max(axis=0)
-    center = center or find_hole_axis(points, radius)
+    center = center or find_hole_axis(points)
     hole = {"type": "cylinder", "point": center, "axis": [0.0, 0.0, 1.0], "radius": float(radius)}
     nodes, elements, tris6 = to_c3d10(points, tets, [hole] if curved else None)
     size = float(np.linalg.norm(hi - lo))
@@ -455,14 +484,7 @@ def plate_tension(vtu, radius, stress=PLATE_STRESS, keep=None, center=None, curv
     k = int(np.argmax(sxx))
     z = nodes[hole_nodes, 2]
     on_face = (np.abs(z - lo[2]) < tol) | (np.abs(z - hi[2]) < tol)
-    # Through-thickness mean of sigma_xx where the hoop stress peaks (the hole
-    # nodes within 1.5 degrees of the y axis through the centre, both sides):
-    # the plane-stress figure the 2D formulas describe. Mean of the means of
-    # ten equal z bins.
-    near = np.abs(nodes[hole_nodes, 0] - center[0]) < math.sin(math.radians(1.5)) * radius
-    bins = np.minimum(((z - lo[2]) / (hi[2] - lo[2]) * 10).astype(int), 9)
-    means = [sxx[near & (bins == b)].mean() for b in range(10) if np.any(near & (bins == b))]
-    thickness_mean = float(np.mean(means)) if means else float("nan")
+    thickness_mean = thickness_mean_at_peak(nodes[hole_nodes], sxx, center, lo[2], hi[2])
     return {"mesh": vtu, "tets": int(len(tets)), "nodes": int(len(nodes)),
             "radius": float(radius), "width": float(hi[1] - lo[1]),
             "thickness": float(hi[2] - lo[2]), "stress": stress,

@@ -4,7 +4,10 @@ of the FEA parts against the analytic values (Testing/FEA/README.md).
 
     /usr/bin/python3 Testing/FEA/test_fea.py --work-dir build/fea
 
-Meshes cantilever, cantilever_width20, plate_hole and plate_hole_r10 with
+First a patch test on Data/fea/cantilever.vtu (uniform tension, statically
+determinate supports: the end face's ux must be sigma L / E at every node,
+which checks the C3D10 node order and the consistent face loads). Then it
+meshes cantilever, cantilever_width20, plate_hole and plate_hole_r10 with
 Data/generate_fea_parts.py into --work-dir, runs the analyses and asserts:
   - tip deflection within 1 % of F L^3 / (3 E I) (widths 10 and 20);
   - plate: the through-thickness mean of sigma_xx at the hole within 1 % of
@@ -28,6 +31,29 @@ SKIP = 77
 CANTILEVER_BOUND = 0.01
 PLATE_MEAN_BOUND = 0.01
 PLATE_PEAK_BOUND = 0.015
+
+
+def patch_test(calculix):
+    """Uniform tension 100 MPa on the cantilever mesh held like the plate:
+    end-face ux at every node and its exact value."""
+    import tempfile
+    import numpy as np
+    points, tets = calculix.read_vtu(os.path.join(calculix.FEA_DATA, "cantilever.vtu"))
+    nodes, elements, tris6 = calculix.to_c3d10(points, tets)
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    tol = 1e-6 * np.linalg.norm(hi - lo)
+    held = np.flatnonzero(np.abs(nodes[:, 0] - lo[0]) < tol)
+    c0 = np.flatnonzero(np.linalg.norm(nodes - lo, axis=1) < tol)
+    c1 = np.flatnonzero(np.linalg.norm(nodes - [lo[0], hi[1], lo[2]], axis=1) < tol)
+    ids, w = calculix.tri6_weights(nodes, calculix.triangles_on_plane(nodes, tris6, 0, hi[0], tol))
+    with tempfile.TemporaryDirectory(prefix="femorph_patch_") as work:
+        calculix.write_inp(os.path.join(work, "job.inp"), nodes, elements,
+                           fixed=[(held, 1, 1), (c0, 2, 3), (c1, 3, 3)],
+                           loads=[(ids, 1, 100.0 * w)], print_sets={"NEND": ids})
+        calculix.run_ccx(work)
+        u = calculix.parse_dat_displacements(os.path.join(work, "job.dat"))["NEND"]
+    ux = np.array([u[i + 1][0] for i in ids])
+    return ux, 100.0 * (hi[0] - lo[0]) / calculix.E_MODULUS
 
 
 def main():
@@ -59,6 +85,9 @@ def main():
             failures.append(message)
 
     start = time.perf_counter()
+    ux, exact = patch_test(calculix)
+    check(abs(ux.min() / exact - 1) < 1e-5 and abs(ux.max() / exact - 1) < 1e-5,
+          f"patch test: end-face ux {ux.min():.8f} .. {ux.max():.8f} mm, sigma L / E = {exact:.8f} mm")
     for case in ("cantilever_width10", "cantilever_width20", "plate_hole_r5", "plate_hole_r10"):
         kind, part, dims = calculix.CASES[case]
         info = generate_fea_parts.generate_fea(part, args.work_dir)
