@@ -619,6 +619,9 @@ def main(argv=None):
     p.add_argument("--fresh", help="the fresh mesh (default: meshed now with Gmsh)")
     p.add_argument("--work-dir", help="keep the fresh mesh and the ccx files here")
     args = parser.parse_args(argv)
+    for path in (args.mesh, getattr(args, "fresh", None)):
+        if path and not os.path.isfile(path):
+            parser.error(f"no file {path}")
 
     if not ccx_available():
         print("SKIP: ccx (CalculiX) not found", file=sys.stderr)
