@@ -23,6 +23,8 @@ packages=(
   xvfb xauth
   # Data/generate_parts.py: CAD parts through Gmsh's OpenCASCADE kernel.
   python3-gmsh gmsh
+  # Testing/FEA: the CalculiX solver (the FEA.Harness test is skipped without it).
+  calculix-ccx
 )
 
 missing=()
