@@ -208,6 +208,12 @@ bool boundary_unfolded(const TetMesh& mesh, const DeformRegions& regions, const 
 /// and plan.valid_max (capped at 10 part sizes from the current value).
 void find_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformPlan& plan);
 
+/// For a target beyond the one-step range of find_valid_range: marches the
+/// boundary toward it in steps, parameterised again after each (smaller
+/// where one would fold), and extends plan's range as far as it gets.
+/// True when the target is reached.
+bool extend_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformPlan& plan, double target);
+
 struct DeformMeshOptions {
   double target = std::numeric_limits<double>::quiet_NaN();
   /// Run Improve (2.6) on the deformable region after each step.

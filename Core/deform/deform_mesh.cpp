@@ -5,6 +5,7 @@
 #include "deform/deform.h"
 
 #include "improve/improve_target.h"
+#include "improve/mesh_density.h"
 #include "improve/phased_odt.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
@@ -98,6 +99,19 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCu
   report = DeformReport();
   const auto progress = [&](double f, const char* what) { return !mo.progress || mo.progress(f, what); };
 
+  // A fitted plane normal a rounding error away from a coordinate axis is
+  // that axis: projections onto it then keep the coordinate exact (a
+  // solver's input deck selects z = 0 by value).
+  for (SurfacePrimitive& sp : regions.surfaces) {
+    if (sp.type != SurfaceType::Plane) continue;
+    for (int k = 0; k < 3; ++k) {
+      if (std::abs(std::abs(sp.axis[k]) - 1) < 1e-12) {
+        const double sign = sp.axis[k] > 0 ? 1.0 : -1.0;
+        sp.axis = Vec3::Zero();
+        sp.axis[k] = sign;
+      }
+    }
+  }
   RegionGraph graph = region_adjacency(mesh, regions.size());
   Status s = classify_surface_regions(mesh, regions, graph, options, plan);
   if (!s) return s;
@@ -121,6 +135,13 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCu
   }
   const double tol = 1e-9 * std::max(1.0, std::abs(plan.current));
   if (mo.target < plan.valid_min - tol || mo.target > plan.valid_max + tol) {
+    t = Clock::now();
+    extend_valid_range(mesh, regions, plan, mo.target);
+    report.seconds_range += seconds_since(t);
+    report.valid_min = plan.valid_min;
+    report.valid_max = plan.valid_max;
+  }
+  if (mo.target < plan.valid_min - tol || mo.target > plan.valid_max + tol) {
     std::ostringstream os;
     os << "TargetValue " << mo.target << " is outside the valid range " << range_text(plan) << " of this "
        << to_string(options.type) << " (now " << plan.current
@@ -143,6 +164,11 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCu
     for (const SurfacePrimitive& sp : regions.surfaces) reference.region_types.push_back(sp.type);
     reference.geometry = make_boundary_geometry(regions.surfaces, {});
   }
+  // Eq. 2.32 on the mesh before the change; the densities travel with the
+  // material through every step (a new vertex takes its origin's, Eq. 2.33).
+  double reference_edge = 0;
+  const std::vector<double> reference_density =
+      mo.improve ? vertex_density(reference.points, reference.tets, &reference_edge) : std::vector<double>();
 
   const double total = mo.target - plan.current;
   const double fraction = std::clamp(mo.max_step_fraction, 1.0 / mo.max_steps, 1.0);
@@ -242,7 +268,23 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCu
       }
       const BoundaryGeometry geometry =
           make_boundary_geometry(regions.surfaces, curves ? *curves : std::vector<BoundaryCurve>());
-      const ImproveTarget target = make_improve_target(mesh, &geometry, &reference);
+      ImproveTargetOptions target_options;
+      target_options.density = false;
+      ImproveTarget target = make_improve_target(mesh, &geometry, &reference, target_options);
+      std::vector<double> density(mesh.vertex_slots(), 0.0);
+      for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
+        if (!mesh.vertex_alive(v)) continue;
+        const VertexStencil& origin = mesh.vertex_origin(v);
+        for (int k = 0; k < 4; ++k) {
+          const index_t o = origin.ids[k];
+          if (o >= 0 && o < static_cast<index_t>(reference_density.size()))
+            density[v] += origin.weights[k] * reference_density[o];
+        }
+      }
+      if (!target.density.build(mesh.points(), live_tet_list(mesh), density, 0.5 * reference_edge,
+                                target_options.max_grid_points, false)) {
+        target.warnings.push_back("no density field could be made; the improvement keeps no density target.");
+      }
       for (const std::string& w : target.warnings) report.warnings.push_back(w);
       PhasedOdtOptions po;
       po.quality_floor = mo.quality_floor;

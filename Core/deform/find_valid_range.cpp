@@ -2,11 +2,14 @@
 // value that degenerates no neighbouring region and makes no
 // self-intersection), found by repositioning the boundary for trial values:
 // a value is valid when its surfaces exist and no boundary triangle of a
-// moved or deformed region folds over on its surface.
+// moved or deformed region folds over on its surface. One parameterisation
+// of the boundary gives the range of one step; beyond it, the boundary is
+// marched in steps, parameterised again after each (extend_valid_range).
 #include "deform/deform.h"
 
 #include "mesh/tet_mesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -99,6 +102,55 @@ void find_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformP
   };
   plan.valid_max = search(+1, plan.limit_max);
   plan.valid_min = search(-1, plan.limit_min);
+}
+
+bool extend_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformPlan& plan, double target) {
+  const bool up = target > plan.valid_max;
+  if (!up && !(target < plan.valid_min)) return true;
+  const double bound = up ? plan.valid_max : plan.valid_min;
+  TetMesh work = mesh;
+  DeformRegions surfaces = regions;
+  DeformPlan step_plan = plan;
+  const RegionGraph graph = region_adjacency(mesh, regions.size());
+  double value = plan.current;
+  // Steps of half the one-step range, smaller where one folds.
+  double step = std::max(0.5 * std::abs(bound - plan.current), 1e-6 * std::max(1.0, std::abs(target)));
+  const double smallest = 1e-4 * std::abs(target - plan.current);
+  std::vector<Vec3> points;
+  std::string why;
+  for (int iteration = 0; iteration < 200 && std::abs(target - value) > 1e-12 * std::max(1.0, std::abs(target));
+       ++iteration) {
+    const double next = std::abs(target - value) <= step ? target : value + (up ? step : -step);
+    const SurfaceUpdate update = update_region_surfaces(step_plan, surfaces, next);
+    VertexParameterization param;
+    bool ok = update.error.empty() && parameterize_vertices(work, step_plan, {}, param, false);
+    if (ok) {
+      reposition_vertices(work, surfaces, param, update, points);
+      ok = boundary_unfolded(work, surfaces, step_plan, update, points, &why);
+    } else {
+      why = update.error;
+    }
+    if (!ok) {
+      step *= 0.25;
+      if (step < smallest) break;
+      continue;
+    }
+    for (index_t v = 0; v < work.vertex_slots(); ++v) {
+      if (work.vertex_alive(v)) work.set_point(v, points[v]);
+    }
+    surfaces.surfaces = update.surfaces;
+    value = next;
+    (up ? plan.valid_max : plan.valid_min) = value;
+    const double moved = value;
+    if (!classify_surface_regions(work, surfaces, graph, plan.options, step_plan)) break;
+    if (plan.options.type == DeformationType::Position) step_plan.current = moved;
+    step *= 2;
+  }
+  if (std::abs(target - value) > 1e-12 * std::max(1.0, std::abs(target))) {
+    (up ? plan.limit_max : plan.limit_min) = why;
+    return false;
+  }
+  return true;
 }
 
 }  // namespace femorph

@@ -5,6 +5,8 @@
 
 #include "mesh/tet_mesh.h"
 
+#include <cmath>
+
 namespace femorph {
 
 void refit_boundary_curves(const TetMesh& mesh, const std::vector<SurfacePrimitive>& surfaces, const DeformPlan& plan,
@@ -33,6 +35,21 @@ void refit_boundary_curves(const TetMesh& mesh, const std::vector<SurfacePrimiti
                    fit.curve.type == CurveType::CircularArc)) {
       c.curve = fit.curve;
       c.type = fit.curve.type;
+      // A circle in a coordinate plane whose points all share that
+      // coordinate: its normal and centre exactly so (no rounding noise off
+      // the plane when Improve projects onto it).
+      if (c.type != CurveType::Line) {
+        for (int k = 0; k < 3; ++k) {
+          if (std::abs(std::abs(c.curve.normal[k]) - 1) >= 1e-9) continue;
+          bool same = !points.empty();
+          for (const Vec3& p : points) same = same && p[k] == points.front()[k];
+          if (!same) continue;
+          const double sign = c.curve.normal[k] > 0 ? 1.0 : -1.0;
+          c.curve.normal = Vec3::Zero();
+          c.curve.normal[k] = sign;
+          c.curve.center[k] = c.curve.start[k] = c.curve.end[k] = points.front()[k];
+        }
+      }
     } else {
       c.curve = CurvePrimitive();
       c.type = CurveType::Unclassified;

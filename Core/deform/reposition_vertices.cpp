@@ -64,6 +64,24 @@ void solve(const VertexParameterization::System& system, std::vector<Vec3>& poin
   }
 }
 
+/// Vertices of a region that does not move (a deformed plane) keep their
+/// coordinate along its normal bit for bit when the normal is a coordinate
+/// axis (a fitted normal a rounding error away from one): the projection
+/// would leave ~1e-16 off the plane, and a solver's input deck selects
+/// z = 0 by value.
+void keep_axis_coordinates(const std::vector<SurfacePrimitive>& surfaces, const std::vector<index_t>& regions,
+                           const Vec3& rest, Vec3& p) {
+  for (const index_t r : regions) {
+    if (r < 0 || r >= static_cast<index_t>(surfaces.size()) || surfaces[r].type != SurfaceType::Plane) continue;
+    const Vec3& n = surfaces[r].axis;
+    for (int k = 0; k < 3; ++k) {
+      if (std::abs(std::abs(n[k]) - 1) < 1e-12 && std::abs(rest[k] - surfaces[r].point[k]) <= 1e-9 * (1 + std::abs(rest[k]))) {
+        p[k] = rest[k];
+      }
+    }
+  }
+}
+
 }  // namespace
 
 void reposition_vertices(const TetMesh& mesh, const DeformRegions& /*regions*/, const VertexParameterization& param,
@@ -80,16 +98,22 @@ void reposition_vertices(const TetMesh& mesh, const DeformRegions& /*regions*/, 
   for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
     if (param.kind[v] != Param::Mapped) continue;
     points[v] = update.map(param.region[v], rest[v]);
-    if (param.mapped_regions[v].size() > 1) points[v] = project(update.surfaces, param.mapped_regions[v], points[v], tol);
+    if (param.mapped_regions[v].size() > 1) {
+      points[v] = project(update.surfaces, param.mapped_regions[v], points[v], tol);
+      keep_axis_coordinates(update.surfaces, param.mapped_regions[v], rest[v], points[v]);
+    }
   }
   // Method 2 by kind; curves and surfaces back onto their surfaces.
   solve(param.curves, points, rest);
   for (const index_t v : param.curves.unknowns) {
-    points[v] = project(update.surfaces, {param.curve_regions[v][0], param.curve_regions[v][1]}, points[v], tol);
+    const std::vector<index_t> two{param.curve_regions[v][0], param.curve_regions[v][1]};
+    points[v] = project(update.surfaces, two, points[v], tol);
+    keep_axis_coordinates(update.surfaces, two, rest[v], points[v]);
   }
   solve(param.surfaces, points, rest);
   for (const index_t v : param.surfaces.unknowns) {
     points[v] = project(update.surfaces, {param.region[v]}, points[v], tol);
+    keep_axis_coordinates(update.surfaces, {param.region[v]}, rest[v], points[v]);
   }
   solve(param.inner, points, rest);
 }
