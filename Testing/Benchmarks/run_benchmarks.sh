@@ -121,7 +121,7 @@ bash Testing/Benchmarks/run_benchmarks.sh --build build                 # all fi
 bash Testing/Benchmarks/run_benchmarks.sh --build build bench_tet_mesh  # one, the others kept
 ```
 
-bench_tet_mesh and bench_tet_to_hex take a few minutes; bench_segment and bench_improve make large
+bench_tet_mesh and bench_tet_to_hex take a few minutes; bench_segment, bench_improve and bench_deform make large
 Gmsh meshes on their first run (into the build folder, reused afterwards) and take longer. The
 figures are wall times on the machine named in each section: compare runs on one machine, and
 put the figures a change moves into its commit message.
