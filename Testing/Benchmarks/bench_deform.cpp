@@ -405,6 +405,9 @@ int main(int argc, char** argv) {
   }
   const long process_peak = status_kb("VmHWM");
   const double t_deform = median(times);
+  std::printf("deform_mesh + improve, each run:");
+  for (const double t : times) std::printf(" %.3f s", t);
+  std::printf("\n");
   const femorph::ValidityReport validity = femorph::check_validity(result.points, result.tets);
   std::vector<double> stretch(result.tets.size());
   femorph::compute_tet_quality(result.points, result.tets, stretch.data(), nullptr, nullptr, nullptr, nullptr);
