@@ -7,8 +7,9 @@
 #
 #   --build DIR  the CMake build folder (default: build/ in the repository);
 #                the programs are DIR/bin/bench_*.
-#   NAME         bench_tet_mesh, bench_segment, bench_improve or
-#                bench_tet_to_hex (default: all four, in that order);
+#   NAME         bench_tet_mesh, bench_segment, bench_improve,
+#                bench_tet_to_hex or bench_deform (default: all five, in that
+#                order);
 #                NAME:ARGS passes ARGS, e.g. "bench_improve:--runs=5".
 #
 # RESULTS.md keeps one section per program between marker comments; a run
@@ -23,14 +24,14 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
 build="$repo/build"
 results="$here/RESULTS.md"
-all=(bench_tet_mesh bench_segment bench_improve bench_tet_to_hex)
+all=(bench_tet_mesh bench_segment bench_improve bench_tet_to_hex bench_deform)
 
 runs=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
     --build=*) build="${1#--build=}"; shift ;;
-    -h|--help) sed -n '2,19p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,20p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "unknown option $1 (see --help)" >&2; exit 2 ;;
     *) runs+=("$1"); shift ;;
   esac
@@ -44,6 +45,7 @@ describe() {
     bench_segment) echo "FEMorph Segment: per-step times (thesis Table 2.9 layout) on the Data/ parts and a fine part of about 200,000 boundary triangles, with CGAL's Efficient RANSAC as the peer. The first run makes the fine part with Gmsh (build/bench-data/, minutes)." ;;
     bench_improve) echo "FEMorph Improve: case (b), boss_block at about 528,000 tets with its boss stretched x1.6 and x3, the phased loop and Poor Elements Only against TetGen's and Gmsh's optimizers; then a uniform BCC reference stretched x3. The first run makes the 528k-tet part with Gmsh." ;;
     bench_tet_to_hex) echo "FEMorph Tet To Hex: a jittered grid of about 1M tets, the quad-angle sweep of thesis Table 4.3, and Gmsh's 3D recombination as the peer." ;;
+    bench_deform) echo "FEMorph Deform's core (thesis 2.5): boss_block's boss height 15 -> 20; parameterisation of the whole part (about 110,000 vertices) and of a local region of about 5,000 inner unknowns, repositioning for a new target, and deform + improve at about 700,000 tets against Gmsh re-meshing the changed CAD (gmsh_remesh_peer.py); peak memory per tet. The first run makes the two parts with Gmsh (build/bench-data/deform/, minutes)." ;;
   esac
 }
 
@@ -115,11 +117,11 @@ The latest figures of FEMorph's benchmark programs (Testing/Benchmarks/bench_*.c
 printed them. This file is written by the benchmark command; do not edit the sections by hand:
 
 ```sh
-bash Testing/Benchmarks/run_benchmarks.sh --build build                 # all four
+bash Testing/Benchmarks/run_benchmarks.sh --build build                 # all five
 bash Testing/Benchmarks/run_benchmarks.sh --build build bench_tet_mesh  # one, the others kept
 ```
 
-bench_tet_mesh and bench_tet_to_hex take a few minutes; bench_segment and bench_improve make large
+bench_tet_mesh and bench_tet_to_hex take a few minutes; bench_segment, bench_improve and bench_deform make large
 Gmsh meshes on their first run (into the build folder, reused afterwards) and take longer. The
 figures are wall times on the machine named in each section: compare runs on one machine, and
 put the figures a change moves into its commit message.
