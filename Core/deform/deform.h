@@ -16,6 +16,7 @@
 #include "segment/segmentation.h"
 
 #include <Eigen/SparseCore>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseLU>
 
 #include <cstdint>
@@ -177,8 +178,16 @@ struct VertexParameterization {
     std::vector<index_t> unknowns;        ///< vertex ids
     std::vector<index_t> knowns;          ///< vertex ids in the right-hand side
     Eigen::SparseMatrix<double> rhs;      ///< unknowns x knowns weights
+    /// Factorised (SparseLU) up to kMaxFactorised unknowns: each target
+    /// then costs two triangular solves. Larger systems (a whole mesh's
+    /// inside) are solved iteratively (BiCGSTAB, diagonal preconditioner)
+    /// at each target: a factorisation would cost more time and memory than
+    /// many solves.
     std::shared_ptr<Eigen::SparseLU<Eigen::SparseMatrix<double>>> lu;
+    std::shared_ptr<Eigen::BiCGSTAB<Eigen::SparseMatrix<double>, Eigen::DiagonalPreconditioner<double>>> iterative;
+    Eigen::SparseMatrix<double> matrix;   ///< kept for the iterative solver
   };
+  static constexpr std::size_t kMaxFactorised = 20000;
   System curves, surfaces, inner;
   std::vector<std::uint8_t> deformable;  ///< per tet slot
   double seconds_surface = 0, seconds_inner = 0;

@@ -56,9 +56,21 @@ Status factorise(const std::vector<Param::Kind>& kind, Param::Kind unknown_kind,
   matrix.setFromTriplets(a.begin(), a.end());
   out.rhs.resize(static_cast<int>(n), static_cast<int>(out.knowns.size()));
   out.rhs.setFromTriplets(b.begin(), b.end());
-  out.lu = std::make_shared<Eigen::SparseLU<Eigen::SparseMatrix<double>>>();
-  out.lu->compute(matrix);
-  if (out.lu->info() != Eigen::Success) {
+  bool ok;
+  if (n <= Param::kMaxFactorised) {
+    out.lu = std::make_shared<Eigen::SparseLU<Eigen::SparseMatrix<double>>>();
+    out.lu->compute(matrix);
+    ok = out.lu->info() == Eigen::Success;
+  } else {
+    out.matrix = std::move(matrix);
+    out.iterative = std::make_shared<
+        Eigen::BiCGSTAB<Eigen::SparseMatrix<double>, Eigen::DiagonalPreconditioner<double>>>();
+    out.iterative->setTolerance(1e-13);
+    out.iterative->setMaxIterations(2000);
+    out.iterative->compute(out.matrix);
+    ok = out.iterative->info() == Eigen::Success;
+  }
+  if (!ok) {
     return Status::failure(std::string("the system of the ") + what +
                            " vertices (Eq. 2.10) could not be factorised: the mesh has vertices outside their "
                            "1-ring (inverted or flat elements?)");
@@ -252,13 +264,15 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
     }
   }
 
+  const auto t_inner_rows = Clock::now();
   Status s = factorise(out.kind, Param::Curve, std::move(curve_rows), out.curves, "curve");
   if (s) s = factorise(out.kind, Param::Surface, std::move(surface_rows), out.surfaces, "surface");
   const auto t2 = Clock::now();
   if (s) s = factorise(out.kind, Param::Inner, std::move(inner_rows), out.inner, "inner");
   const auto t3 = Clock::now();
-  out.seconds_surface = std::chrono::duration<double>(t1 - t0).count() + std::chrono::duration<double>(t2 - t1).count();
-  out.seconds_inner = std::chrono::duration<double>(t3 - t2).count();
+  const auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+  out.seconds_surface = seconds(t0, t1) + seconds(t_inner_rows, t2);
+  out.seconds_inner = seconds(t1, t_inner_rows) + seconds(t2, t3);
   return s;
 }
 

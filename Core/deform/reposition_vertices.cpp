@@ -57,7 +57,13 @@ void solve(const VertexParameterization::System& system, std::vector<Vec3>& poin
     known.row(static_cast<Eigen::Index>(k)) = (points[v] - rest[v]).transpose();
   }
   const Eigen::MatrixXd rhs = system.rhs * known;
-  const Eigen::MatrixXd u = system.lu->solve(rhs);
+  Eigen::MatrixXd u;
+  if (system.lu) {
+    u = system.lu->solve(rhs);
+  } else {
+    u.resize(rhs.rows(), 3);
+    for (int c = 0; c < 3; ++c) u.col(c) = system.iterative->solve(rhs.col(c));
+  }
   for (std::size_t i = 0; i < system.unknowns.size(); ++i) {
     const index_t v = system.unknowns[i];
     points[v] = rest[v] + u.row(static_cast<Eigen::Index>(i)).transpose();

@@ -394,7 +394,7 @@ int main(int argc, char** argv) {
     femorph::DeformPlan p;
     const long before = peak_start();
     const auto t0 = Clock::now();
-    const femorph::Status s = femorph::deform_mesh(mesh, regions, boss_height_options(big), mo, p, report);
+    const femorph::Status s = femorph::deform_mesh(mesh, regions, nullptr, boss_height_options(big), mo, p, report);
     times.push_back(seconds_since(t0));
     if (r == 0) deform_peak = status_kb("VmHWM") - before;
     if (!s) {
