@@ -20,6 +20,7 @@
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -360,16 +361,86 @@ bool vtkFEMorphDeform::Execute(
   meshOptions.progress = this->ProgressRange(0.1, 0.95);
   femorph::DeformPlan plan;
   femorph::DeformReport report;
-  const femorph::Status deformed =
-    femorph::deform_mesh(mesh, regions, &seg.Curves, options, meshOptions, plan, report);
-  if (this->WasAborted() || report.aborted)
+  if (!meshOptions.improve && !std::isnan(meshOptions.target))
   {
-    return true;
+    // Parameterise once, reposition many: the session is kept while the
+    // input and every property but TargetValue stay the same.
+    std::ostringstream key;
+    key << input << " " << input->GetMTime() << " " << static_cast<int>(options.type) << " "
+        << options.control_region << " " << options.local_region << " " << options.translation.transpose()
+        << " r";
+    for (const auto r : options.reference_regions)
+    {
+      key << " " << r;
+    }
+    key << " f" << options.override_following;
+    for (const auto r : options.following_regions)
+    {
+      key << " " << r;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!this->Session || this->SessionKey != key.str())
+    {
+      this->Session = std::make_shared<femorph::DeformSession>();
+      this->SessionKey.clear();
+      const femorph::Status prepared = this->Session->prepare(mesh, regions, options);
+      if (!prepared)
+      {
+        this->Session.reset();
+        this->Fail(prepared.message);
+        return false;
+      }
+      this->SessionKey = key.str();
+    }
+    std::vector<femorph::Vec3> points;
+    bool reused = false;
+    const femorph::Status moved =
+      this->Session->reposition(meshOptions.target, points, report.surfaces, &reused);
+    plan = this->Session->plan();
+    if (!moved)
+    {
+      this->Fail(moved.message);
+      return false;
+    }
+    for (femorph::index_t v = 0; v < mesh.vertex_slots(); ++v)
+    {
+      if (mesh.vertex_alive(v) && points[v] != mesh.point(v))
+      {
+        mesh.set_point(v, points[v]);
+        ++report.moved_vertices;
+      }
+    }
+    const auto& param = this->Session->parameterization();
+    report.current = plan.current;
+    report.target = meshOptions.target;
+    report.valid_min = plan.valid_min;
+    report.valid_max = plan.valid_max;
+    report.steps = 1;
+    report.deformable = param.deformable;
+    if (report.deformable.empty())
+    {
+      report.deformable.assign(static_cast<std::size_t>(mesh.tet_slots()), 1);
+    }
+    report.surface_unknowns = param.surfaces.unknowns.size() + param.curves.unknowns.size();
+    report.inner_unknowns = param.inner.unknowns.size();
+    report.seconds_total =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    (reused ? report.seconds_reposition : report.seconds_parameterize) = report.seconds_total;
+    report.min_stretch_before = report.min_stretch_after = std::numeric_limits<double>::quiet_NaN();
   }
-  if (!deformed)
+  else
   {
-    this->Fail(deformed.message);
-    return false;
+    const femorph::Status deformed =
+      femorph::deform_mesh(mesh, regions, &seg.Curves, options, meshOptions, plan, report);
+    if (this->WasAborted() || report.aborted)
+    {
+      return true;
+    }
+    if (!deformed)
+    {
+      this->Fail(deformed.message);
+      return false;
+    }
   }
   this->WarnAll(report.warnings);
 

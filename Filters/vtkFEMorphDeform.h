@@ -54,6 +54,11 @@
  *   none).
  * - LocalRegion (on): reposition and improve only the deformable region.
  * - Improve (on): Phased ODT on the deformable region after each step.
+ *   Off: the filter keeps its parameterisation (the deformable region,
+ *   the mean value coordinates and the factorised systems) between runs,
+ *   so that a new TargetValue (dragged in ParaView, a sweep in pvpython)
+ *   costs only the repositioning; a change that would invert tetrahedra is
+ *   then an error.
  * - MaxStepFraction (1): largest fraction of the change per step; steps are
  *   halved further while one would invert tetrahedra (up to MaxSteps).
  * - QualityFloor (0.3): Improve's floor.
@@ -81,7 +86,14 @@
 #include "FEMorphFiltersModule.h" // For export macro
 #include "vtkFEMorphAlgorithm.h"
 
+#include <memory> // For std::shared_ptr
+#include <string> // For std::string
 #include <vector> // For std::vector
+
+namespace femorph
+{
+class DeformSession;
+}
 
 class FEMORPHFILTERS_EXPORT vtkFEMorphDeform : public vtkFEMorphAlgorithm
 {
@@ -165,6 +177,11 @@ protected:
   double QualityFloor = 0.3;
 
 private:
+  /// Without Improve: the parameterisation of the last run, reused while
+  /// only TargetValue changes (2.5.4: parameterise once, reposition many).
+  std::shared_ptr<femorph::DeformSession> Session;
+  std::string SessionKey;
+
   vtkFEMorphDeform(const vtkFEMorphDeform&) = delete;
   void operator=(const vtkFEMorphDeform&) = delete;
 };

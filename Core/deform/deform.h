@@ -12,6 +12,7 @@
 
 #include "common/types.h"
 #include "geometry/surface_primitive.h"
+#include "mesh/tet_mesh.h"
 #include "mesh/surface_mesh.h"
 #include "segment/segmentation.h"
 
@@ -27,8 +28,6 @@
 #include <vector>
 
 namespace femorph {
-
-class TetMesh;
 
 /// Table 2.7, in its order (the filter's DeformationType enumeration).
 enum class DeformationType : std::int32_t {
@@ -265,6 +264,33 @@ struct ReferenceMesh;
 Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCurve>* curves,
                    const DeformOptions& options, const DeformMeshOptions& mesh_options, DeformPlan& plan,
                    DeformReport& report);
+
+/// Parameterise once, reposition many (2.5.4): the classification, valid
+/// range, deformable region, coordinates and factorisation of one mesh and
+/// one control region, kept so that a new target value costs only the
+/// repositioning (dragging Target Value in ParaView, a sweep over values),
+/// as long as the region built for the largest change asked so far reaches.
+/// Without improvement: a change that would invert tetrahedra is refused.
+class DeformSession {
+ public:
+  /// Classification and valid range on a copy of `mesh`.
+  Status prepare(const TetMesh& mesh, const DeformRegions& regions, const DeformOptions& options);
+  /// The vertex positions and surfaces for `target` (the mesh's vertex
+  /// slots). `reused` tells whether the parameterisation was kept.
+  Status reposition(double target, std::vector<Vec3>& points, std::vector<SurfacePrimitive>& surfaces,
+                    bool* reused = nullptr);
+  const DeformPlan& plan() const { return plan_; }
+  const TetMesh& mesh() const { return mesh_; }
+  const VertexParameterization& parameterization() const { return param_; }
+
+ private:
+  TetMesh mesh_;
+  DeformRegions regions_;
+  DeformPlan plan_;
+  VertexParameterization param_;
+  double reach_ = -1;  ///< the reach param_ was built for (< 0: none)
+  double edge_ = 0;
+};
 
 /// The fits of the curves that bound a moved or deformed region, refitted
 /// on their live vertices (a curve left with too few becomes unclassified,

@@ -174,12 +174,39 @@ def run_errors(args):
     return 1 if bad else 0
 
 
+def run_sweep(args):
+    """Parameterise once, reposition many: with Improve off, a sweep of the
+    boss height over several targets parameterises on the first and only
+    repositions on the others (DeformTimes), each output exact."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    reader = XMLUnstructuredGridReader(FileName=[os.path.join(args.data, "boss_block.vtu")])
+    seg = FEMorphSegment(Input=reader)
+    d = FEMorphDeform(Input=seg, DeformationType=0, UseControlPoint=1, ControlPoint=TOP, Improve=0)
+    base = vtk_to_numpy(servermanager.Fetch(reader).GetPoints().GetData())
+    top = np.nonzero(np.abs(base[:, 2] - 35) < 1e-12)[0]
+    bad = 0
+    for i, target in enumerate((17.0, 16.0, 16.5, 15.5)):
+        d.TargetValue = target
+        d.UpdatePipeline()
+        out = servermanager.Fetch(d)
+        p = vtk_to_numpy(out.GetPoints().GetData())
+        param, repos = field(out, "DeformTimes", 2), field(out, "DeformTimes", 3)
+        exact = len(top) > 0 and np.all(np.abs(p[top, 2] - (20 + target)) < 1e-12)
+        ok = exact and ((param > 0) if i == 0 else (param == 0 and repos > 0))
+        print(("ok     " if ok else "FAILED ") + f"target {target}: parameterize {param:.4f} s, "
+              f"reposition {repos:.4f} s, boss top at {20 + target}: {exact}")
+        bad += 0 if ok else 1
+    return 1 if bad else 0
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--plugin", required=True)
     parser.add_argument("--data", required=True)
     parser.add_argument("--case", choices=sorted(CASES))
     parser.add_argument("--errors", action="store_true")
+    parser.add_argument("--sweep", action="store_true")
     parser.add_argument("--out", default=None)
     args = parser.parse_args()
     if not os.path.isdir(os.path.join(args.data, "variants")):
@@ -191,6 +218,8 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     if args.errors:
         return run_errors(args)
+    if args.sweep:
+        return run_sweep(args)
     return run_case(args, args.case)
 
 

@@ -241,3 +241,35 @@ TEST(DeformMesh, ShrinkingWithImproveKeepsEveryTetPositive) {
 
 }  // namespace
 }  // namespace femorph
+
+namespace femorph {
+namespace {
+
+TEST(DeformSession, RepositionsManyTargetsOnOneParameterisation) {
+  Cube c;
+  DeformOptions o;
+  o.control_region = 1;
+  DeformSession session;
+  ASSERT_TRUE(session.prepare(c.mesh, c.regions, o));
+  std::vector<Vec3> points;
+  std::vector<SurfacePrimitive> surfaces;
+  bool reused = true;
+  ASSERT_TRUE(session.reposition(1.4, points, surfaces, &reused));
+  EXPECT_FALSE(reused);  // the first target parameterises
+  for (const double target : {1.3, 1.1, 1.2}) {
+    ASSERT_TRUE(session.reposition(target, points, surfaces, &reused));
+    EXPECT_TRUE(reused) << target;  // smaller changes keep it
+    EXPECT_NEAR(surfaces[1].point.x(), target, 1e-14);
+    for (index_t v = 0; v < c.mesh.vertex_slots(); ++v) {
+      if (c.mesh.point(v).x() == 1) {
+        EXPECT_NEAR(points[v].x(), target, 1e-14);
+      }
+    }
+  }
+  const Status out = session.reposition(-3, points, surfaces);
+  ASSERT_FALSE(out);
+  EXPECT_NE(out.message.find("valid range"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace femorph

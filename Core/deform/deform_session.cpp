@@ -1,0 +1,90 @@
+// Parameterise once, reposition many (thesis 2.5.4: the positions are
+// parameterised once, then each target value only repositions them): the
+// state kept between target values of one deformation.
+#include "deform/deform.h"
+
+#include "mesh/tet_mesh.h"
+#include "quality/tet_quality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace femorph {
+
+Status DeformSession::prepare(const TetMesh& mesh, const DeformRegions& regions, const DeformOptions& options) {
+  mesh_ = mesh;
+  regions_ = regions;
+  reach_ = -1;
+  param_ = VertexParameterization();
+  const RegionGraph graph = region_adjacency(mesh_, regions_.size());
+  const Status s = classify_surface_regions(mesh_, regions_, graph, options, plan_);
+  if (!s) return s;
+  find_valid_range(mesh_, regions_, plan_);
+  double sum = 0;
+  std::size_t n = 0;
+  for (index_t t = 0; t < mesh_.tet_slots(); ++t) {
+    if (!mesh_.tet_alive(t)) continue;
+    const Tet& T = mesh_.tet(t);
+    for (const auto& e : kTetEdge) {
+      sum += (mesh_.point(T[e[0]]) - mesh_.point(T[e[1]])).norm();
+      ++n;
+    }
+  }
+  edge_ = n ? sum / n : 0;
+  return Status::success();
+}
+
+Status DeformSession::reposition(double target, std::vector<Vec3>& points, std::vector<SurfacePrimitive>& surfaces,
+                                 bool* reused) {
+  const double tol = 1e-9 * std::max(1.0, std::abs(plan_.current));
+  if (!(target >= plan_.valid_min - tol && target <= plan_.valid_max + tol)) {
+    std::ostringstream os;
+    os << "TargetValue " << target << " is outside the valid range [" << plan_.valid_min << ", " << plan_.valid_max
+       << "] of this " << to_string(plan_.options.type) << " (now " << plan_.current << ").";
+    return Status::failure(os.str());
+  }
+  const SurfaceUpdate update = update_region_surfaces(plan_, regions_, target);
+  if (!update.error.empty()) return Status::failure("TargetValue " + std::to_string(target) + ": " + update.error + ".");
+  // The reach of this change; the region is rebuilt only when it grows.
+  double move = 0;
+  for (index_t t = 0; t < mesh_.tet_slots(); ++t) {
+    if (!mesh_.tet_alive(t)) continue;
+    for (int f = 0; f < 4; ++f) {
+      const index_t r = mesh_.face_region(t, f);
+      if (r < 0 || r >= static_cast<index_t>(plan_.roles.size())) continue;
+      if (plan_.roles[r] != RegionRole::Control && plan_.roles[r] != RegionRole::Following) continue;
+      for (int k = 0; k < 3; ++k) {
+        const Vec3& p = mesh_.point(mesh_.tet(t)[kTetFace[f][k]]);
+        move = std::max(move, (update.map(r, p) - p).norm());
+      }
+    }
+  }
+  const double reach = std::max(3 * edge_, 1.5 * move);
+  const bool keep = reach_ >= reach;
+  if (!keep) {
+    std::vector<std::uint8_t> region;
+    if (plan_.options.local_region) region = extract_deformable_region(mesh_, plan_, reach);
+    const Status s = parameterize_vertices(mesh_, plan_, region, param_);
+    if (!s) return s;
+    reach_ = reach;
+  }
+  if (reused) *reused = keep;
+  reposition_vertices(mesh_, regions_, param_, update, points);
+  std::size_t inverted = 0;
+  for (index_t t = 0; t < mesh_.tet_slots(); ++t) {
+    if (!mesh_.tet_alive(t)) continue;
+    const Tet& T = mesh_.tet(t);
+    inverted += tet_signed_volume(points[T[0]], points[T[1]], points[T[2]], points[T[3]]) <= 0;
+  }
+  if (inverted) {
+    std::ostringstream os;
+    os << "the change to " << target << " inverts " << inverted
+       << " tetrahedra; turn Improve on (it takes the change in steps and repairs them) or take a smaller change.";
+    return Status::failure(os.str());
+  }
+  surfaces = update.surfaces;
+  return Status::success();
+}
+
+}  // namespace femorph
