@@ -44,6 +44,13 @@ bool profile_line(const ProfileFrame& frame, const SurfacePrimitive& s, ProfileL
 /// they are parallel).
 bool offset_intersection(const ProfileLine& a, double da, const ProfileLine& b, double db, Vec2& q);
 
+/// The largest distance a vertex of a moved region travels for `update`
+/// (the reach of the deformable region).
+double largest_move(const TetMesh& mesh, const DeformPlan& plan, const SurfaceUpdate& update);
+
+/// Mean edge length of the live tets.
+double mean_edge_length(const TetMesh& mesh);
+
 struct DeformPlan::Feature {
   /// Distance / Position: unit direction in which the dimension grows
   /// (Distance: from the reference plane to the control plane).

@@ -2,7 +2,7 @@
 // the quality improvement of 2.6 on the deformable region; a change that
 // would invert tetrahedra is split into smaller steps with improvement in
 // between (thesis 2.8, Fig. 2.55, future work).
-#include "deform/deform.h"
+#include "deform/deform_internal.h"
 
 #include "improve/improve_target.h"
 #include "improve/mesh_density.h"
@@ -30,38 +30,6 @@ double min_stretch(const TetMesh& mesh, const std::vector<std::uint8_t>* mask = 
     lo = std::min(lo, tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])));
   }
   return lo;
-}
-
-double mean_edge_length(const TetMesh& mesh) {
-  double sum = 0;
-  std::size_t n = 0;
-  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-    if (!mesh.tet_alive(t)) continue;
-    const Tet& T = mesh.tet(t);
-    for (const auto& e : kTetEdge) {
-      sum += (mesh.point(T[e[0]]) - mesh.point(T[e[1]])).norm();
-      ++n;
-    }
-  }
-  return n ? sum / n : 0;
-}
-
-/// The largest distance a vertex of a moved region travels for `update`.
-double largest_move(const TetMesh& mesh, const DeformPlan& plan, const SurfaceUpdate& update) {
-  double d = 0;
-  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-    if (!mesh.tet_alive(t)) continue;
-    for (int f = 0; f < 4; ++f) {
-      const index_t r = mesh.face_region(t, f);
-      if (r < 0 || r >= static_cast<index_t>(plan.roles.size())) continue;
-      if (plan.roles[r] != RegionRole::Control && plan.roles[r] != RegionRole::Following) continue;
-      for (int k = 0; k < 3; ++k) {
-        const Vec3& p = mesh.point(mesh.tet(t)[kTetFace[f][k]]);
-        d = std::max(d, (update.map(r, p) - p).norm());
-      }
-    }
-  }
-  return d;
 }
 
 /// Tets of `mask` (empty: all) with no positive volume at `points`, and

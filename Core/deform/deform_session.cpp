@@ -1,7 +1,7 @@
 // Parameterise once, reposition many (thesis 2.5.4: the positions are
 // parameterised once, then each target value only repositions them): the
 // state kept between target values of one deformation.
-#include "deform/deform.h"
+#include "deform/deform_internal.h"
 
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
@@ -21,17 +21,7 @@ Status DeformSession::prepare(const TetMesh& mesh, const DeformRegions& regions,
   const Status s = classify_surface_regions(mesh_, regions_, graph, options, plan_);
   if (!s) return s;
   find_valid_range(mesh_, regions_, plan_);
-  double sum = 0;
-  std::size_t n = 0;
-  for (index_t t = 0; t < mesh_.tet_slots(); ++t) {
-    if (!mesh_.tet_alive(t)) continue;
-    const Tet& T = mesh_.tet(t);
-    for (const auto& e : kTetEdge) {
-      sum += (mesh_.point(T[e[0]]) - mesh_.point(T[e[1]])).norm();
-      ++n;
-    }
-  }
-  edge_ = n ? sum / n : 0;
+  edge_ = mean_edge_length(mesh_);
   return Status::success();
 }
 
@@ -47,19 +37,7 @@ Status DeformSession::reposition(double target, std::vector<Vec3>& points, std::
   const SurfaceUpdate update = update_region_surfaces(plan_, regions_, target);
   if (!update.error.empty()) return Status::failure("TargetValue " + std::to_string(target) + ": " + update.error + ".");
   // The reach of this change; the region is rebuilt only when it grows.
-  double move = 0;
-  for (index_t t = 0; t < mesh_.tet_slots(); ++t) {
-    if (!mesh_.tet_alive(t)) continue;
-    for (int f = 0; f < 4; ++f) {
-      const index_t r = mesh_.face_region(t, f);
-      if (r < 0 || r >= static_cast<index_t>(plan_.roles.size())) continue;
-      if (plan_.roles[r] != RegionRole::Control && plan_.roles[r] != RegionRole::Following) continue;
-      for (int k = 0; k < 3; ++k) {
-        const Vec3& p = mesh_.point(mesh_.tet(t)[kTetFace[f][k]]);
-        move = std::max(move, (update.map(r, p) - p).norm());
-      }
-    }
-  }
+  const double move = largest_move(mesh_, plan_, update);
   const double reach = std::max(3 * edge_, 1.5 * move);
   const bool keep = reach_ >= reach;
   if (!keep) {
