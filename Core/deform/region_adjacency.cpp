@@ -27,9 +27,13 @@ RegionGraph region_adjacency(const TetMesh& mesh, std::size_t region_count, doub
   graph.neighbors.assign(region_count, {});
   graph.g1.assign(region_count, {});
   graph.area.assign(region_count, 0.0);
-  // Every boundary edge once per face: (min, max) -> (region, normal).
-  struct Side { index_t region; Vec3 normal; };
-  std::map<std::pair<index_t, index_t>, std::vector<Side>> edges;
+  // Every boundary edge once per face (its two ends, region and normal),
+  // sorted so that the two faces of an edge are next to each other.
+  struct Side {
+    index_t a, b, region;
+    Vec3 normal;
+  };
+  std::vector<Side> sides;
   for (index_t t = 0; t < mesh.tet_slots(); ++t) {
     if (!mesh.tet_alive(t)) continue;
     for (int f = 0; f < 4; ++f) {
@@ -46,18 +50,24 @@ RegionGraph region_adjacency(const TetMesh& mesh, std::size_t region_count, doub
       for (int k = 0; k < 3; ++k) {
         index_t u = T[kTetFace[f][k]], v = T[kTetFace[f][(k + 1) % 3]];
         if (u > v) std::swap(u, v);
-        edges[{u, v}].push_back({r, unit});
+        sides.push_back({u, v, r, unit});
       }
     }
   }
+  std::sort(sides.begin(), sides.end(),
+            [](const Side& x, const Side& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
   // Per region pair: summed angle and count.
   std::map<std::pair<index_t, index_t>, std::pair<double, int>> pairs;
-  for (const auto& entry : edges) {
-    const auto& sides = entry.second;
-    if (sides.size() != 2 || sides[0].region == sides[1].region) continue;
-    index_t a = sides[0].region, b = sides[1].region;
+  for (std::size_t i = 0; i + 1 < sides.size(); ++i) {
+    const Side& x = sides[i];
+    const Side& y = sides[i + 1];
+    if (x.a != y.a || x.b != y.b) continue;
+    const bool two = i + 2 >= sides.size() || sides[i + 2].a != x.a || sides[i + 2].b != x.b;
+    if (!two || (i > 0 && sides[i - 1].a == x.a && sides[i - 1].b == x.b)) continue;  // non-manifold edge
+    if (x.region == y.region) continue;
+    index_t a = x.region, b = y.region;
     if (a > b) std::swap(a, b);
-    const double c = std::clamp(sides[0].normal.dot(sides[1].normal), -1.0, 1.0);
+    const double c = std::clamp(x.normal.dot(y.normal), -1.0, 1.0);
     auto& p = pairs[{a, b}];
     p.first += std::acos(c);
     p.second += 1;
