@@ -15,41 +15,65 @@
 
 namespace femorph {
 
-bool boundary_unfolded(const TetMesh& mesh, const DeformRegions& regions, const DeformPlan& plan,
-                       const SurfaceUpdate& update, const std::vector<Vec3>& points, std::string* why) {
+namespace {
+
+/// The boundary faces (4 t + f) of the moved and deformed regions: the
+/// only ones a change can fold.
+std::vector<index_t> changing_faces(const TetMesh& mesh, const DeformPlan& plan) {
+  std::vector<index_t> faces;
   for (index_t t = 0; t < mesh.tet_slots(); ++t) {
     if (!mesh.tet_alive(t)) continue;
     for (int f = 0; f < 4; ++f) {
       const index_t r = mesh.face_region(t, f);
-      if (r < 0 || r >= static_cast<index_t>(plan.roles.size()) || plan.roles[r] == RegionRole::Fixed) continue;
-      const Tet& T = mesh.tet(t);
-      const index_t a = T[kTetFace[f][0]], b = T[kTetFace[f][1]], c = T[kTetFace[f][2]];
-      const Vec3 n0 = (mesh.point(b) - mesh.point(a)).cross(mesh.point(c) - mesh.point(a));
-      const Vec3 n1 = (points[b] - points[a]).cross(points[c] - points[a]);
-      bool ok;
-      const SurfacePrimitive& s0 = regions.surfaces[r];
-      const SurfacePrimitive& s1 = update.surfaces[r];
-      if (s0.type == SurfaceType::Unknown || s1.type == SurfaceType::Unknown) {
-        ok = n1.dot(n0) > 1e-6 * n0.squaredNorm();
-      } else {
-        const Vec3 c0 = (mesh.point(a) + mesh.point(b) + mesh.point(c)) / 3;
-        const Vec3 c1 = (points[a] + points[b] + points[c]) / 3;
-        const double side0 = n0.dot(surface_normal(s0, c0)), side1 = n1.dot(surface_normal(s1, c1));
-        ok = (side0 > 0) == (side1 > 0) && std::abs(side1) > 1e-6 * n0.norm();
-      }
-      if (!ok) {
-        if (why) {
-          const Vec3 c1 = (points[a] + points[b] + points[c]) / 3;
-          std::ostringstream os;
-          os << "a boundary triangle of region " << r << " (" << to_string(plan.roles[r]) << ") near (" << c1.x()
-             << ", " << c1.y() << ", " << c1.z() << ") folds over";
-          *why = os.str();
-        }
-        return false;
+      if (r >= 0 && r < static_cast<index_t>(plan.roles.size()) && plan.roles[r] != RegionRole::Fixed) {
+        faces.push_back(4 * t + f);
       }
     }
   }
+  return faces;
+}
+
+bool faces_unfolded(const TetMesh& mesh, const DeformRegions& regions, const DeformPlan& plan,
+                    const SurfaceUpdate& update, const std::vector<Vec3>& points, const std::vector<index_t>& faces,
+                    std::string* why) {
+  for (const index_t code : faces) {
+    const index_t t = code / 4;
+    const int f = code % 4;
+    const index_t r = mesh.face_region(t, f);
+    const Tet& T = mesh.tet(t);
+    const index_t a = T[kTetFace[f][0]], b = T[kTetFace[f][1]], c = T[kTetFace[f][2]];
+    const Vec3 n0 = (mesh.point(b) - mesh.point(a)).cross(mesh.point(c) - mesh.point(a));
+    const Vec3 n1 = (points[b] - points[a]).cross(points[c] - points[a]);
+    bool ok;
+    const SurfacePrimitive& s0 = regions.surfaces[r];
+    const SurfacePrimitive& s1 = update.surfaces[r];
+    if (s0.type == SurfaceType::Unknown || s1.type == SurfaceType::Unknown) {
+      ok = n1.dot(n0) > 1e-6 * n0.squaredNorm();
+    } else {
+      const Vec3 c0 = (mesh.point(a) + mesh.point(b) + mesh.point(c)) / 3;
+      const Vec3 c1 = (points[a] + points[b] + points[c]) / 3;
+      const double side0 = n0.dot(surface_normal(s0, c0)), side1 = n1.dot(surface_normal(s1, c1));
+      ok = (side0 > 0) == (side1 > 0) && std::abs(side1) > 1e-6 * n0.norm();
+    }
+    if (!ok) {
+      if (why) {
+        const Vec3 c1 = (points[a] + points[b] + points[c]) / 3;
+        std::ostringstream os;
+        os << "a boundary triangle of region " << r << " (" << to_string(plan.roles[r]) << ") near (" << c1.x()
+           << ", " << c1.y() << ", " << c1.z() << ") folds over";
+        *why = os.str();
+      }
+      return false;
+    }
+  }
   return true;
+}
+
+}  // namespace
+
+bool boundary_unfolded(const TetMesh& mesh, const DeformRegions& regions, const DeformPlan& plan,
+                       const SurfaceUpdate& update, const std::vector<Vec3>& points, std::string* why) {
+  return faces_unfolded(mesh, regions, plan, update, points, changing_faces(mesh, plan), why);
 }
 
 void find_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformPlan& plan) {
@@ -60,6 +84,7 @@ void find_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformP
   }
   std::vector<Vec3> points;
   std::string why;
+  const std::vector<index_t> faces = changing_faces(mesh, plan);
   const auto valid = [&](double value) {
     const SurfaceUpdate update = update_region_surfaces(plan, regions, value);
     if (!update.error.empty()) {
@@ -67,7 +92,7 @@ void find_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformP
       return false;
     }
     reposition_vertices(mesh, regions, param, update, points);
-    return boundary_unfolded(mesh, regions, plan, update, points, &why);
+    return faces_unfolded(mesh, regions, plan, update, points, faces, &why);
   };
   const bool angle = plan.options.type == DeformationType::ChamferAngle;
   const double c = plan.current;
