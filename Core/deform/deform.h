@@ -177,9 +177,9 @@ struct VertexParameterization {
     std::vector<index_t> unknowns;        ///< vertex ids
     std::vector<index_t> knowns;          ///< vertex ids in the right-hand side
     Eigen::SparseMatrix<double> rhs;      ///< unknowns x knowns weights
-    /// Factorised (SparseLU) up to kMaxFactorised unknowns: each target
-    /// then costs two triangular solves. Larger systems (a whole mesh's
-    /// inside) are solved iteratively (BiCGSTAB, diagonal preconditioner)
+    /// Factorised (SparseLU): each target then costs two triangular solves.
+    /// An inner system above kMaxFactorised unknowns (a whole mesh's
+    /// inside) is solved iteratively (BiCGSTAB, diagonal preconditioner)
     /// at each target: a factorisation would cost more time and memory than
     /// many solves.
     std::shared_ptr<Eigen::SparseLU<Eigen::SparseMatrix<double>>> lu;

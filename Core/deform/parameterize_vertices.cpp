@@ -28,7 +28,7 @@ struct Rows {
 };
 
 Status factorise(const std::vector<Param::Kind>& kind, Param::Kind unknown_kind, Rows rows, Param::System& out,
-                 const char* what) {
+                 const char* what, bool iterative_above_limit) {
   out = Param::System();
   out.unknowns = std::move(rows.unknowns);
   const std::size_t n = out.unknowns.size();
@@ -57,7 +57,7 @@ Status factorise(const std::vector<Param::Kind>& kind, Param::Kind unknown_kind,
   out.rhs.resize(static_cast<int>(n), static_cast<int>(out.knowns.size()));
   out.rhs.setFromTriplets(b.begin(), b.end());
   bool ok;
-  if (n <= Param::kMaxFactorised) {
+  if (!iterative_above_limit || n <= Param::kMaxFactorised) {
     out.lu = std::make_shared<Eigen::SparseLU<Eigen::SparseMatrix<double>>>();
     out.lu->compute(matrix);
     ok = out.lu->info() == Eigen::Success;
@@ -265,10 +265,12 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
   }
 
   const auto t_inner_rows = Clock::now();
-  Status s = factorise(out.kind, Param::Curve, std::move(curve_rows), out.curves, "curve");
-  if (s) s = factorise(out.kind, Param::Surface, std::move(surface_rows), out.surfaces, "surface");
+  // Curves and surfaces are 1D and 2D systems: their factors stay sparse at
+  // any size. Only the inside may be solved iteratively.
+  Status s = factorise(out.kind, Param::Curve, std::move(curve_rows), out.curves, "curve", false);
+  if (s) s = factorise(out.kind, Param::Surface, std::move(surface_rows), out.surfaces, "surface", false);
   const auto t2 = Clock::now();
-  if (s) s = factorise(out.kind, Param::Inner, std::move(inner_rows), out.inner, "inner");
+  if (s) s = factorise(out.kind, Param::Inner, std::move(inner_rows), out.inner, "inner", true);
   const auto t3 = Clock::now();
   const auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
   out.seconds_surface = seconds(t0, t1) + seconds(t_inner_rows, t2);
