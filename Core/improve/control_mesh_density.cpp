@@ -55,7 +55,8 @@ void sort_unique_by_ends(std::vector<HeapEdge>& edges) {
 /// edge is met once per tet holding it and the repeats are dropped after
 /// sorting.
 void edges_passing(const TetMesh& mesh, const DensityGrid& grid, DensityLookup lookup, const std::vector<char>& mask,
-                   double beta1, double beta2, std::vector<HeapEdge>* longs, std::vector<HeapEdge>* shorts) {
+                   double beta1, double beta2, std::vector<HeapEdge>* longs, std::vector<HeapEdge>* shorts,
+                   bool longs_unmasked = false) {
   struct Found {
     std::vector<HeapEdge> longs, shorts;
   };
@@ -63,11 +64,12 @@ void edges_passing(const TetMesh& mesh, const DensityGrid& grid, DensityLookup l
     const Tet& T = mesh.tet(t);
     for (const auto& e : kTetEdge) {
       const index_t a = std::min(T[e[0]], T[e[1]]), b = std::max(T[e[0]], T[e[1]]);
-      if (!masked(mask, a) || !masked(mask, b)) continue;
+      const bool both = masked(mask, a) && masked(mask, b);
+      if (!both && !longs_unmasked) continue;
       double length;
       const double s = scaled_length(mesh, grid, lookup, a, b, &length);
       if (longs && s >= beta1) f.longs.push_back({length, a, b, t});
-      if (shorts && s > 0 && s <= beta2) f.shorts.push_back({length, a, b});
+      if (both && shorts && s > 0 && s <= beta2) f.shorts.push_back({length, a, b});
     }
   });
   if (longs) {
@@ -291,7 +293,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
   const double beta1 = options.split_threshold, beta2 = options.collapse_threshold;
   // Step 1: edges with L(e) >= beta1 / rho_GC(c_e) into a max-heap by length.
   std::vector<HeapEdge> longs;
-  edges_passing(mesh, grid, options.lookup, mask, beta1, beta2, &longs, shorts);
+  edges_passing(mesh, grid, options.lookup, mask, beta1, beta2, &longs, shorts, options.split_inner_edges);
   MaxEdgeQueue heap(std::move(longs));
   std::size_t splits = 0;
   std::vector<char> made;  // vertices this pass created
@@ -345,6 +347,8 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
         continue;
       }
       if (!e.is_edge) continue;
+      // An edge with an unflagged end only when it is inner (split_inner_edges).
+      if (e.boundary && !(masked(mask, top.a) && masked(mask, top.b))) continue;
       if (!e.accepted) {
         if (stats) ++stats->refused_splits;
         continue;

@@ -101,6 +101,11 @@ struct DensityControlOptions {
   /// vertices are flagged are split or collapsed (vertices a split creates
   /// inherit the flag). Empty: every edge.
   std::vector<char> vertex_mask;
+  /// Beyond the mask: long inner edges (on no boundary face) are split even
+  /// when an end is not flagged; the new vertex is inner and flagged, the
+  /// boundary does not change. Adapt: edges from a fixed object surface into
+  /// the space would otherwise only ever stretch.
+  bool split_inner_edges = false;
   /// A check for tests: the collapse pass also looks up every heap entry it
   /// takes as current without a lookup (neither end moved since it was
   /// queued; DensityControlStats::queue_checked) and counts those no longer

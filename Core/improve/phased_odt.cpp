@@ -417,6 +417,7 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
                                                 ball_remove);
           };
         dco.vertex_mask = phase_vertices(mesh, phase, movable);
+        dco.split_inner_edges = options.split_inner_edges && phase == 2;
         if (phase < 2) dco.touched = &touched;
         const DensityControlStats dcs = control_mesh_density(mesh, *target.density, dco);
         stats.splits += dcs.splits;

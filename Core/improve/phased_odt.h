@@ -102,6 +102,11 @@ struct PhasedOdtOptions {
   /// collapsed. Inverted tets are still repaired, which may remove a
   /// boundary vertex.
   bool fix_boundary = false;
+  /// Beyond the thesis: the density control of the volume phase also splits
+  /// long inner edges between fixed or frozen vertices (never a boundary
+  /// edge): a region whose boundary holds still keeps its density where the
+  /// edges from that boundary stretch (Adapt, behind a moving object).
+  bool split_inner_edges = false;
   /// Beyond the thesis: the surface vertices of a region without a fit (a
   /// stretched fillet, a free-form face) move on that region's triangles as
   /// given (add_discrete_regions) instead of staying where they are.

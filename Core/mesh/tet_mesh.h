@@ -327,6 +327,18 @@ class TetMesh {
   /// collapse of the new vertex onto c. Refused when either step would be.
   OpStatus flip_surface_edge(index_t a, index_t b, index_t hint = kInvalidIndex);
 
+  /// Replaces the live tets `old_tets` (a cavity, e.g. a region adapted as a
+  /// mesh of its own) by `new_tets`. A vertex id v >= 0 of a new tet is an
+  /// existing vertex; v < 0 is new point -1 - v of `new_points` (created with
+  /// `new_point_origins`, class Inner). The boundary of the new tets must be
+  /// the cavity's boundary, face for face; otherwise nothing changes and the
+  /// call fails. Vertices of the cavity no new tet uses are deleted. Fills
+  /// touched_ with the new tets; `created`, when given, receives the ids of
+  /// the new points.
+  Status replace_cavity(const std::vector<index_t>& old_tets, const std::vector<Tet>& new_tets,
+                        const std::vector<index_t>& new_origins, const std::vector<Vec3>& new_points,
+                        const std::vector<VertexStencil>& new_point_origins, std::vector<index_t>* created = nullptr);
+
   /// Live tets the last accepted operation created or changed.
   const std::vector<index_t>& touched_tets() const { return touched_; }
 

@@ -1,0 +1,227 @@
+// FEMorph Adapt, thesis chapter 3: a rigid object moves through a conformal
+// space mesh step by step, and only the space elements near it are adapted.
+//
+// One step (Fig. 3.1, A2; Fig. 3.6) without contact:
+//   build_vertex_grid        G_v, the fixed vertex search grid (3.4.1)
+//   build_distance_grid      G_d, the distance field moving with the object (3.4.1)
+//   extract_deformed_region  K_Df from G_d and G_v (3.4.3)
+//   embed_deformed_region    rigid transformation, MVC embedding of K_Df's
+//                            inner vertices (3.5.3, Eqs. 3.1-3.2)
+//   improve_deformed_region  Improve's Phased ODT on K_Df (3.6)
+// chained by adapt_step; AdaptSession keeps the state between steps.
+#pragma once
+
+#include "common/types.h"
+#include "mesh/tet_mesh.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace femorph {
+
+/// A rigid pose x -> R x + t.
+struct RigidPose {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Vec3 t = Vec3::Zero();
+
+  Vec3 apply(const Vec3& x) const { return R * x + t; }
+  RigidPose inverse() const;
+  /// (this o other)(x) = this(other(x)).
+  RigidPose after(const RigidPose& other) const;
+  /// The fraction s in [0, 1] of this motion from the identity: rotation
+  /// angle and translation scaled along the screw (sub-steps of a step).
+  RigidPose fraction(double s) const;
+};
+
+/// The motion of the moving object: the pose of step n, from step 0 (the
+/// input, identity).
+struct RigidMotion {
+  /// x_n = c + n t + R(axis, n angle) (x_0 - c) (issue 27's motion model).
+  Vec3 translation_per_step = Vec3::Zero();
+  Vec3 rotation_axis = Vec3::UnitX();
+  Vec3 rotation_center = Vec3::Zero();
+  double rotation_degrees_per_step = 0;
+  /// When not empty: the absolute pose of step n is table[n - 1] (the
+  /// filter's motion table); steps beyond the table are invalid.
+  std::vector<RigidPose> table;
+
+  RigidPose pose(int step) const;
+};
+
+/// A 4x4 row-major matrix (m00..m33) as a rigid pose. Fails, saying why,
+/// when it is not finite, its last row is not (0 0 0 1), or its 3x3 block is
+/// not a rotation within `tolerance` (R^T R = I, det R = 1).
+Status rigid_pose_from_matrix(const double m[16], RigidPose& pose, double tolerance = 1e-6);
+
+struct AdaptOptions {
+  /// Material id of the moving object (> 0; 0 is space).
+  int moving_object = 1;
+  /// Cell edge of G_d and G_v; <= 0: 6 x the largest displacement of an
+  /// object vertex in one step (3.4.1).
+  double grid_cell_size = 0;
+  /// delta_dist of 3.4.3 in cells of G_d: G_v cells nearer than this to the
+  /// object hold the deformed region's vertices (thesis: 3).
+  double distance_threshold = 3;
+  /// Quality improvement (3.6) on the deformed region every step.
+  bool improve = true;
+  /// Improve's quality floor (PhasedOdtOptions::quality_floor); <= 0: the
+  /// input's minimum stretch, within [0.1, 0.4] (the steps then aim not to
+  /// fall below the input).
+  double quality_floor = 0;
+  /// A step whose embedding inverts elements is split into halves, at most
+  /// this many times (2^k sub-steps).
+  int max_halvings = 5;
+};
+
+/// What one step did (a row of the filter's table).
+struct AdaptStepReport {
+  int step = 0;
+  std::size_t vertices = 0, tets = 0;
+  double min_stretch = 0, mean_stretch = 0;
+  std::size_t deformed_region_tets = 0;  ///< K_Df, summed over sub-steps
+  std::size_t inner_vertices = 0;       ///< unknowns of Eq. 3.2, summed over sub-steps
+  std::size_t contact_faces = 0;        ///< faces shared by the moving and another object
+  int substeps = 1;
+  double seconds = 0;
+  /// The time by part: G_v and K_Df (3.4), the region as a mesh of its own,
+  /// the embedding (3.5.3), the improvement (3.6), the splice back.
+  double seconds_region = 0, seconds_submesh = 0, seconds_embed = 0, seconds_improve = 0, seconds_splice = 0;
+  std::vector<std::string> warnings;
+};
+
+/// The mesh of the current step for output. Ids are dense.
+struct AdaptOutput {
+  std::vector<Vec3> points;
+  std::vector<Tet> tets;
+  std::vector<int> material;                  ///< per tet
+  std::vector<index_t> cell_origin;           ///< per tet: the input cell it descends from
+  std::vector<VertexStencil> point_origin;    ///< per point: input points and weights (field transfer)
+};
+
+/// 3.4.1: G_v, the fixed grid of the vertices: cell (i, j, k) holds the
+/// live vertices inside it (CSR).
+struct VertexGrid {
+  Vec3 origin = Vec3::Zero();
+  double h = 1;
+  std::array<int, 3> n{{0, 0, 0}};
+  std::vector<index_t> start;  ///< n0 n1 n2 + 1 offsets into `vertices`
+  std::vector<index_t> vertices;
+  std::size_t cell_id(int i, int j, int k) const {
+    return (static_cast<std::size_t>(k) * n[1] + j) * n[0] + i;
+  }
+};
+/// Cells of edge h over the box [lo, hi] (slightly padded).
+VertexGrid build_vertex_grid(const TetMesh& mesh, const Vec3& lo, const Vec3& hi, double h);
+
+/// 3.4.1: G_d, the distance field of the moving object, in the object's
+/// frame at step 0: cell distances (in cells) from the cells holding the
+/// object's surface vertices, by the simplified fast marching of Fig. 3.2
+/// (26-neighbour steps of 1), up to `threshold` + 1; the grid covers the
+/// object's box padded by that much.
+struct DistanceGrid {
+  Vec3 origin = Vec3::Zero();
+  double h = 1;
+  std::array<int, 3> n{{0, 0, 0}};
+  std::vector<float> distance;  ///< per cell; +inf beyond the threshold
+  /// Distance at a point of the object's frame; +inf outside the grid.
+  double at(const Vec3& x) const;
+};
+DistanceGrid build_distance_grid(const std::vector<Vec3>& surface_points, double h, double threshold);
+
+/// 3.4.3: K_Df, the space tets (material 0) with a vertex in a G_v cell whose
+/// centre, mapped into the object's frame by `to_object`, lies nearer than
+/// `threshold` cells to the object; closed so that it is a manifold
+/// submesh (a boundary vertex whose region or outside part of the ball is
+/// not face-connected takes its whole space ball in). Returns tet slots.
+std::vector<index_t> extract_deformed_region(const TetMesh& mesh, const std::vector<int>& tet_material,
+                                             const VertexGrid& vertex_grid, const DistanceGrid& distance_grid,
+                                             const RigidPose& to_object, double threshold);
+
+/// A copy of tets of a TetMesh as a mesh of its own (the deformed region),
+/// with the map back to the big mesh.
+struct RegionMesh {
+  TetMesh mesh;
+  std::vector<index_t> global_vertex;  ///< local vertex -> big mesh vertex (build-time slots)
+  std::vector<index_t> global_tet;     ///< local tet -> big mesh tet (build-time slots)
+};
+
+/// The tets `region` of `mesh` as a RegionMesh (its vertices in the order
+/// first met). Fails when they do not form a valid manifold mesh.
+Status make_region_mesh(const TetMesh& mesh, const std::vector<index_t>& region, RegionMesh& out);
+
+/// 3.5.3 (Eqs. 3.1-3.2) on the region: its vertices in `moved` (by local
+/// id, 1 = moved) go to `moved_position`, its other boundary vertices stay,
+/// and its inner vertices are solved from their 3D mean value coordinates in
+/// their 1-rings (computed before the move). Returns the inner vertex count,
+/// or fails when the system cannot be solved.
+Status embed_deformed_region(RegionMesh& region, const std::vector<std::uint8_t>& moved,
+                             const std::vector<Vec3>& moved_position, std::size_t* inner_vertices);
+
+/// 3.6: Improve's Phased ODT on the region with its boundary fixed; the
+/// target density is the input's (a spatial field). Repairs inverted tets.
+/// `density_scale` multiplies the target density (AdaptSession keeps the
+/// vertex count with it); `vertex_ratio` receives the region's vertex count
+/// after over before.
+struct DensityGrid;
+Status improve_deformed_region(RegionMesh& region, const DensityGrid* density, double density_scale,
+                               double quality_floor, double* vertex_ratio = nullptr);
+
+/// Mean and minimum stretch of the live tets of a mesh.
+void stretch_range(const TetMesh& mesh, double* min, double* mean);
+
+class AdaptSession {
+ public:
+  /// Builds the session from the input mesh (tets positively oriented or all
+  /// negative), a material id per tet and the motion. Fails with a message
+  /// naming the problem (no tet of the moving object, no space tet, an
+  /// invalid mesh, an interface between the object and space that is not
+  /// conformal).
+  Status init(const std::vector<Vec3>& points, const std::vector<Tet>& tets, const std::vector<int>& material,
+              const RigidMotion& motion, const AdaptOptions& options);
+  /// Computes step current_step() + 1. On failure the session stays at the
+  /// step it was (a refused step: penetration, a collapse of the space
+  /// between the object and the boundary), and the message says why.
+  Status advance(AdaptStepReport* report = nullptr);
+  int current_step() const { return step_; }
+  /// The report of step 0 (the input).
+  AdaptStepReport initial_report() const;
+  AdaptOutput output() const;
+  std::size_t memory_bytes() const;
+
+ private:
+  /// One sub-step to pose `to` (adapt_step.cpp); false in *retry when a
+  /// smaller sub-step may succeed.
+  Status move_to(const RigidPose& to, AdaptStepReport& report, bool* retry);
+  void refresh_stretch(const std::vector<index_t>& removed, const std::vector<index_t>& added);
+  TetMesh mesh_;
+  std::vector<int> material_;              ///< per input tet (by tet_origin)
+  std::vector<index_t> object_vertices_;   ///< the moving object's vertices
+  std::vector<Vec3> object_rest_;          ///< their positions at step 0
+  std::vector<index_t> object_index_;      ///< per vertex slot: index into object_vertices_, or -1
+  RigidMotion motion_;
+  AdaptOptions options_;
+  RigidPose pose_;                          ///< pose of the current step
+  DistanceGrid distance_grid_;
+  std::shared_ptr<const DensityGrid> density_;
+  Vec3 box_lo_ = Vec3::Zero(), box_hi_ = Vec3::Zero();
+  double cell_ = 1;
+  double quality_floor_ = 0.3;
+  /// Scale of the target density: the improvement of 3.6 drives a region
+  /// toward isotropic tets of the input's mean edge length, which for a
+  /// mesh of mixed edge lengths (the 12-tet cubes of 3.7.2) has fewer
+  /// vertices than the input; each step corrects the scale by the region's
+  /// vertex change (beyond the thesis: the vertex count stays near the
+  /// input's over hundreds of steps).
+  double density_scale_ = 1;
+  std::size_t input_vertices_ = 0;
+  int step_ = 0;
+  std::vector<double> stretch_;             ///< per tet slot (cache; NaN dead)
+};
+
+}  // namespace femorph

@@ -1,0 +1,199 @@
+// One motion step of thesis Fig. 3.1 (A2) without contact (3.5.1: "only (ii)
+// rigid transformation and (iii) deformed region adaptation"), followed by
+// the quality improvement of 3.6. Beyond the thesis: a step whose embedding
+// would invert elements is split into halves (screw sub-steps), each adapted
+// and improved in turn; a step that cannot be done is refused and the mesh
+// stays at the previous step.
+#include "adapt/adapt.h"
+
+#include "mesh/vertex_stencil.h"
+#include "quality/tet_quality.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace femorph {
+
+Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool* retry) {
+  *retry = false;
+  using Clock = std::chrono::steady_clock;
+  auto lap = Clock::now();
+  const auto since = [&lap]() {
+    const auto now = Clock::now();
+    const double s = std::chrono::duration<double>(now - lap).count();
+    lap = now;
+    return s;
+  };
+  // 3.4.3 at the current pose.
+  const VertexGrid vertex_grid = build_vertex_grid(mesh_, box_lo_, box_hi_, cell_);
+  const std::vector<index_t> region = extract_deformed_region(mesh_, material_, vertex_grid, distance_grid_,
+                                                              pose_.inverse(), options_.distance_threshold);
+  report.seconds_region += since();
+  RegionMesh rm;
+  Status s = make_region_mesh(mesh_, region, rm);
+  report.seconds_submesh += since();
+  if (!s) return s;
+  const index_t built = static_cast<index_t>(rm.global_vertex.size());
+  std::vector<std::uint8_t> moved(static_cast<std::size_t>(built), 0);
+  std::vector<Vec3> moved_position(static_cast<std::size_t>(built), Vec3::Zero());
+  for (index_t v = 0; v < built; ++v) {
+    const index_t g = rm.global_vertex[v];
+    // Vertices made after init() (splits) are never the object's.
+    const index_t k = g < static_cast<index_t>(object_index_.size()) ? object_index_[g] : kInvalidIndex;
+    if (k < 0) continue;
+    moved[v] = 1;
+    moved_position[v] = to.apply(object_rest_[k]);
+  }
+  std::size_t inner = 0;
+  s = embed_deformed_region(rm, moved, moved_position, &inner);
+  report.seconds_embed += since();
+  if (!s) return s;
+  report.deformed_region_tets += region.size();
+  report.inner_vertices += inner;
+  // (iii) must leave no inverted element for Improve to start from a
+  // valid mesh; a smaller sub-step does.
+  for (index_t t = 0; t < rm.mesh.tet_slots(); ++t)
+    if (rm.mesh.tet_alive(t) && rm.mesh.orientation(t) <= 0) {
+      *retry = true;
+      return Status::failure("the embedding inverts elements");
+    }
+  if (options_.improve) {
+    double ratio = 1;
+    s = improve_deformed_region(rm, density_.get(), density_scale_, quality_floor_, &ratio);
+    (void)ratio;
+    report.seconds_improve += since();
+    if (!s) {
+      *retry = true;
+      return s;
+    }
+  }
+
+  // Splice the region back: build-time vertices keep their ids, new ones
+  // are created with stencils composed back to the input's points.
+  const TetMesh& sub = rm.mesh;
+  std::vector<index_t> name(static_cast<std::size_t>(sub.vertex_slots()), kInvalidIndex);
+  std::vector<Vec3> new_points;
+  std::vector<VertexStencil> new_origins;
+  for (index_t v = 0; v < sub.vertex_slots(); ++v) {
+    if (!sub.vertex_alive(v)) continue;
+    if (v < built) {
+      name[v] = rm.global_vertex[v];
+      continue;
+    }
+    name[v] = -1 - static_cast<index_t>(new_points.size());
+    new_points.push_back(sub.point(v));
+    const VertexStencil& local = sub.vertex_origin(v);
+    const VertexStencil* stencils[4];
+    double weights[4];
+    int n = 0;
+    for (int k = 0; k < 4; ++k)
+      if (local.ids[k] >= 0 && local.ids[k] < built) {
+        stencils[n] = &mesh_.vertex_origin(rm.global_vertex[local.ids[k]]);
+        weights[n++] = local.weights[k];
+      }
+    new_origins.push_back(n ? combine_stencils(stencils, weights, n) : VertexStencil());
+  }
+  std::vector<Tet> tets;
+  std::vector<index_t> origins;
+  for (index_t t = 0; t < sub.tet_slots(); ++t) {
+    if (!sub.tet_alive(t)) continue;
+    Tet T = sub.tet(t);
+    for (index_t& v : T) v = name[v];
+    tets.push_back(T);
+    origins.push_back(mesh_.tet_origin(rm.global_tet[sub.tet_origin(t)]));
+  }
+  // Positions first (replace_cavity compares ids only).
+  std::vector<Vec3> previous(static_cast<std::size_t>(built));
+  for (index_t v = 0; v < built; ++v) {
+    previous[v] = mesh_.point(rm.global_vertex[v]);
+    if (sub.vertex_alive(v)) mesh_.set_point(rm.global_vertex[v], sub.point(v));
+  }
+  s = mesh_.replace_cavity(region, tets, origins, new_points, new_origins);
+  if (!s) {
+    for (index_t v = 0; v < built; ++v) mesh_.set_point(rm.global_vertex[v], previous[v]);
+    return Status::failure("the adapted region could not be put back (" + s.message + ")");
+  }
+  refresh_stretch(region, mesh_.touched_tets());
+  // (ii) the whole object moves rigidly (its inside is no part of K_Df).
+  for (std::size_t k = 0; k < object_vertices_.size(); ++k)
+    mesh_.set_point(object_vertices_[k], to.apply(object_rest_[k]));
+  pose_ = to;
+  report.seconds_splice += since();
+  return Status::success();
+}
+
+Status AdaptSession::advance(AdaptStepReport* report_out) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const int next = step_ + 1;
+  if (!motion_.table.empty() && next > static_cast<int>(motion_.table.size()))
+    return Status::failure("step " + std::to_string(next) + " is beyond the motion table's " +
+                           std::to_string(motion_.table.size()) + " rows");
+  AdaptStepReport report;
+  report.step = next;
+  report.substeps = 0;
+  const RigidPose target = motion_.pose(next);
+  // A failed attempt leaves the mesh as it was; only sub-steps need a copy
+  // to return to (taken at the first halving, before any sub-step is done).
+  TetMesh saved_mesh;
+  std::vector<double> saved_stretch;
+  const RigidPose saved_pose = pose_;
+  int halvings = 0;
+  // The remaining motion is done in sub-steps of 1 / 2^halvings of it.
+  double done = 0;
+  while (done < 1 - 1e-12) {
+    const double fraction = std::min(1.0, std::ldexp(1.0, -halvings) / (1 - done));
+    const RigidPose rest = target.after(pose_.inverse());
+    const RigidPose to = fraction >= 1 ? target : rest.fraction(fraction).after(pose_);
+    bool retry = false;
+    const Status s = move_to(to, report, &retry);
+    if (s) {
+      done += (1 - done) * fraction;
+      ++report.substeps;
+      continue;
+    }
+    if (retry && halvings < options_.max_halvings) {
+      if (halvings++ == 0) {
+        saved_mesh = mesh_;
+        saved_stretch = stretch_;
+      }
+      continue;
+    }
+    if (halvings > 0) {
+      mesh_ = std::move(saved_mesh);
+      stretch_ = std::move(saved_stretch);
+      pose_ = saved_pose;
+    }
+    std::ostringstream os;
+    os << "step " << next << " refused: " << s.message;
+    if (retry)
+      os << ", even in " << (1 << halvings) << " sub-steps; the moving object may penetrate another object "
+         << "or the domain's boundary, or the space around it is too thin (earlier steps are kept)";
+    return Status::failure(os.str());
+  }
+  step_ = next;
+  // A mesh that lost vertices asks for a denser target in the next step's
+  // region (and the other way round): an integral control of the count.
+  const double count_ratio = static_cast<double>(input_vertices_) / static_cast<double>(mesh_.live_vertices());
+  density_scale_ = std::clamp(density_scale_ * std::clamp(count_ratio * count_ratio, 0.95, 1.05), 0.5, 2.0);
+  report.vertices = mesh_.live_vertices();
+  report.tets = mesh_.live_tets();
+  double lo = std::numeric_limits<double>::infinity(), sum = 0;
+  std::size_t n = 0;
+  for (const double x : stretch_) {
+    if (std::isnan(x)) continue;
+    lo = std::min(lo, x);
+    sum += x;
+    ++n;
+  }
+  report.min_stretch = n ? lo : 0;
+  report.mean_stretch = n ? sum / static_cast<double>(n) : 0;
+  report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (report_out) *report_out = std::move(report);
+  return Status::success();
+}
+
+}  // namespace femorph

@@ -1,0 +1,224 @@
+// Core/adapt (thesis chapter 3): the rigid motion model, the grids, the
+// deformed region, and whole motions checked after every step by the
+// independent validity checker: valid mesh, outer boundary unchanged, the
+// object moved rigidly, quality and vertex count kept.
+#include "adapt/adapt.h"
+#include "quality/check_validity.h"
+#include "quality/tet_quality.h"
+#include "test_adapt_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace femorph {
+namespace {
+
+using testing::make_block_in_box;
+using testing::MaterialMesh;
+
+double min_stretch(const std::vector<Vec3>& p, const std::vector<Tet>& tets) {
+  double m = 1;
+  for (const Tet& t : tets) m = std::min(m, tet_stretch(p[t[0]], p[t[1]], p[t[2]], p[t[3]]));
+  return m;
+}
+
+/// Boundary faces (faces of one tet) as sorted coordinate triples.
+std::vector<std::array<std::array<double, 3>, 3>> outer_faces(const std::vector<Vec3>& p, const std::vector<Tet>& tets) {
+  static const int kF[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  std::map<std::array<index_t, 3>, int> count;
+  for (const Tet& t : tets)
+    for (const auto& f : kF) {
+      std::array<index_t, 3> k{{t[f[0]], t[f[1]], t[f[2]]}};
+      std::sort(k.begin(), k.end());
+      ++count[k];
+    }
+  std::vector<std::array<std::array<double, 3>, 3>> out;
+  for (const auto& [k, n] : count) {
+    if (n != 1) continue;
+    std::array<std::array<double, 3>, 3> f;
+    for (int i = 0; i < 3; ++i) f[i] = {p[k[i]].x(), p[k[i]].y(), p[k[i]].z()};
+    std::sort(f.begin(), f.end());
+    out.push_back(f);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// The object's cells of the output, mapped back by the inverse pose, are
+/// the input object's cells (same vertex positions within tol).
+double object_rigid_error(const MaterialMesh& in, const AdaptOutput& out, const RigidPose& pose, int object) {
+  std::vector<std::array<std::array<double, 3>, 4>> a, b;
+  const RigidPose back = pose.inverse();
+  const auto key = [](const Vec3& x) { return std::array<double, 3>{{x.x(), x.y(), x.z()}}; };
+  double worst = 0;
+  std::vector<Vec3> pin, pout;
+  for (std::size_t t = 0; t < in.tets.size(); ++t)
+    if (in.material[t] == object)
+      for (const index_t v : in.tets[t]) pin.push_back(in.points[v]);
+  for (std::size_t t = 0; t < out.tets.size(); ++t)
+    if (out.material[t] == object)
+      for (const index_t v : out.tets[t]) pout.push_back(back.apply(out.points[v]));
+  if (pin.size() != pout.size()) return 1e30;
+  const auto less = [&](const Vec3& x, const Vec3& y) {
+    return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
+  };
+  // Snap to a grid coarse enough for rounding, fine against the mesh.
+  const auto snap = [](Vec3 x) { return Vec3((x * 1e6).array().round() / 1e6); };
+  for (Vec3& x : pin) x = snap(x);
+  std::vector<Vec3> pout_snapped = pout;
+  for (Vec3& x : pout_snapped) x = snap(x);
+  std::sort(pin.begin(), pin.end(), less);
+  std::sort(pout_snapped.begin(), pout_snapped.end(), less);
+  for (std::size_t i = 0; i < pin.size(); ++i) worst = std::max(worst, (pin[i] - pout_snapped[i]).norm());
+  (void)key;
+  return worst;
+}
+
+struct MotionCheck {
+  double worst_min_stretch = 1;
+  double worst_drift = 0;
+  int steps = 0;
+};
+
+/// Runs `steps` steps and checks every one; returns the worst figures.
+MotionCheck run_and_check(const MaterialMesh& in, const RigidMotion& motion, int steps, AdaptOptions options = {}) {
+  MotionCheck c;
+  AdaptSession session;
+  const Status s = session.init(in.points, in.tets, in.material, motion, options);
+  EXPECT_TRUE(s.ok) << s.message;
+  if (!s) return c;
+  const auto outer0 = outer_faces(in.points, in.tets);
+  for (int n = 1; n <= steps; ++n) {
+    AdaptStepReport report;
+    const Status st = session.advance(&report);
+    EXPECT_TRUE(st.ok) << st.message;
+    if (!st) return c;
+    const AdaptOutput out = session.output();
+    const ValidityReport v = check_validity(out.points, out.tets);
+    EXPECT_TRUE(v.ok()) << "step " << n << ": " << v.summary();
+    EXPECT_EQ(outer_faces(out.points, out.tets), outer0) << "step " << n << ": the outer boundary changed";
+    EXPECT_LT(object_rigid_error(in, out, motion.pose(n), options.moving_object), 1e-5)
+        << "step " << n << ": the object did not move rigidly";
+    const double ms = min_stretch(out.points, out.tets);
+    EXPECT_NEAR(ms, report.min_stretch, 1e-9);
+    c.worst_min_stretch = std::min(c.worst_min_stretch, ms);
+    c.worst_drift = std::max(c.worst_drift, std::abs(double(out.points.size()) / double(in.points.size()) - 1));
+    c.steps = n;
+    if (::testing::Test::HasFailure()) return c;
+  }
+  return c;
+}
+
+TEST(RigidPose, MotionModelComposesAndInverts) {
+  RigidMotion m;
+  m.translation_per_step = Vec3(0, 0, 0.1);
+  m.rotation_axis = Vec3(2, 0, 0);
+  m.rotation_center = Vec3(1, 2, 3);
+  m.rotation_degrees_per_step = 1;
+  const RigidPose p = m.pose(90);
+  // The centre only translates; a point off it turns a quarter about x.
+  EXPECT_LT((p.apply(m.rotation_center) - Vec3(1, 2, 12)).norm(), 1e-12);
+  EXPECT_LT((p.apply(Vec3(1, 3, 3)) - Vec3(1, 2, 13)).norm(), 1e-12);
+  EXPECT_LT((p.inverse().apply(p.apply(Vec3(4, 5, 6))) - Vec3(4, 5, 6)).norm(), 1e-12);
+  // Sub-steps: two halves of a step make the step.
+  const RigidPose step = m.pose(1);
+  const RigidPose half = step.fraction(0.5);
+  EXPECT_LT((half.after(half).apply(Vec3(3, -1, 2)) - step.apply(Vec3(3, -1, 2))).norm(), 1e-12);
+}
+
+TEST(RigidPose, MatrixRowsAreChecked) {
+  RigidPose p;
+  const double rigid[16] = {0, -1, 0, 1, 1, 0, 0, 2, 0, 0, 1, 3, 0, 0, 0, 1};
+  EXPECT_TRUE(rigid_pose_from_matrix(rigid, p).ok);
+  EXPECT_LT((p.apply(Vec3(1, 0, 0)) - Vec3(1, 3, 3)).norm(), 1e-15);
+  const double scaled[16] = {2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  const Status s = rigid_pose_from_matrix(scaled, p);
+  EXPECT_FALSE(s.ok);
+  EXPECT_NE(s.message.find("not a rotation"), std::string::npos) << s.message;
+  const double mirror[16] = {-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  EXPECT_FALSE(rigid_pose_from_matrix(mirror, p).ok);
+  const double projective[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.5, 0, 0, 1};
+  EXPECT_FALSE(rigid_pose_from_matrix(projective, p).ok);
+}
+
+TEST(DistanceGrid, MarchesOutwardUpToTheThreshold) {
+  const DistanceGrid g = build_distance_grid({Vec3(0.5, 0.5, 0.5)}, 1.0, 3);
+  EXPECT_EQ(g.at(Vec3(0.5, 0.5, 0.5)), 0);
+  EXPECT_EQ(g.at(Vec3(1.5, 1.5, 0.5)), 1);
+  EXPECT_EQ(g.at(Vec3(3.5, 0.5, 0.5)), 3);
+  EXPECT_TRUE(std::isinf(g.at(Vec3(10.5, 0.5, 0.5))));
+}
+
+TEST(AdaptSession, TranslationAndRotationKeepTheMeshValidEveryStep) {
+  const MaterialMesh in = make_block_in_box({8, 8, 12}, {2, 3, 1}, 1.0, 0.15, 5);
+  RigidMotion motion;
+  motion.translation_per_step = Vec3(0, 0, 0.1);
+  motion.rotation_center = 0.5 * (in.object_lo + in.object_hi);
+  motion.rotation_axis = Vec3(1, 0, 0);
+  motion.rotation_degrees_per_step = 4;
+  const MotionCheck c = run_and_check(in, motion, 20);
+  EXPECT_EQ(c.steps, 20);
+  const double input_min = min_stretch(in.points, in.tets);
+  EXPECT_GE(c.worst_min_stretch, std::min(0.2, input_min)) << "input " << input_min;
+  EXPECT_LT(c.worst_drift, 0.05);
+}
+
+TEST(AdaptSession, AFullTurnInPlaceKeepsQualityAndVertexCount) {
+  const MaterialMesh in = make_block_in_box({8, 8, 8}, {3, 2, 1}, 1.0, 0.15, 9);
+  RigidMotion motion;
+  motion.rotation_center = 0.5 * (in.object_lo + in.object_hi);
+  motion.rotation_axis = Vec3(0, 0.3, 1);
+  motion.rotation_degrees_per_step = 10;
+  const MotionCheck c = run_and_check(in, motion, 36);
+  EXPECT_EQ(c.steps, 36);
+  EXPECT_GE(c.worst_min_stretch, std::min(0.2, min_stretch(in.points, in.tets)));
+  EXPECT_LT(c.worst_drift, 0.05);
+}
+
+TEST(AdaptSession, BadInputIsRefusedWithAMessage) {
+  const MaterialMesh in = make_block_in_box({6, 6, 6}, {2, 2, 1}, 1.0, 0.1, 1);
+  RigidMotion motion;
+  motion.translation_per_step = Vec3(0.1, 0, 0);
+  AdaptSession s;
+  AdaptOptions o;
+  o.moving_object = 7;
+  Status st = s.init(in.points, in.tets, in.material, motion, o);
+  EXPECT_FALSE(st.ok);
+  EXPECT_NE(st.message.find("no cell has the moving object's material id 7"), std::string::npos) << st.message;
+  std::vector<int> short_material(in.material.begin(), in.material.end() - 1);
+  EXPECT_FALSE(s.init(in.points, in.tets, short_material, motion, {}).ok);
+  std::vector<int> negative = in.material;
+  negative[3] = -2;
+  EXPECT_FALSE(s.init(in.points, in.tets, negative, motion, {}).ok);
+  // An object touching the outer boundary cannot move without changing it.
+  std::vector<int> touching = in.material;
+  touching[0] = 1;
+  st = s.init(in.points, in.tets, touching, motion, {});
+  EXPECT_FALSE(st.ok);
+}
+
+TEST(AdaptSession, AStepIntoTheWallIsRefusedAndEarlierStepsKept) {
+  const MaterialMesh in = make_block_in_box({6, 6, 6}, {2, 2, 1}, 1.0, 0.1, 3);
+  RigidMotion motion;
+  motion.translation_per_step = Vec3(0.6, 0, 0);  // the wall is 2 cubes away
+  AdaptSession s;
+  ASSERT_TRUE(s.init(in.points, in.tets, in.material, motion, {}).ok);
+  int last_good = 0;
+  Status st;
+  for (int n = 1; n <= 6; ++n) {
+    st = s.advance();
+    if (!st) break;
+    last_good = n;
+  }
+  ASSERT_FALSE(st.ok) << "the object went through the wall";
+  EXPECT_NE(st.message.find("step " + std::to_string(last_good + 1) + " refused"), std::string::npos) << st.message;
+  EXPECT_EQ(s.current_step(), last_good);
+  const AdaptOutput out = s.output();
+  EXPECT_TRUE(check_validity(out.points, out.tets).ok());
+}
+
+}  // namespace
+}  // namespace femorph
