@@ -70,9 +70,9 @@ struct AdaptOptions {
   double distance_threshold = 3;
   /// Quality improvement (3.6) on the deformed region every step.
   bool improve = true;
-  /// Improve's quality floor (PhasedOdtOptions::quality_floor); <= 0: the
-  /// input's minimum stretch, within [0.1, 0.4] (the steps then aim not to
-  /// fall below the input).
+  /// Improve's quality floor (PhasedOdtOptions::quality_floor); <= 0: 1.1 x
+  /// the input's minimum stretch, within [0.1, 0.4] (the steps then stay
+  /// above the input's minimum).
   double quality_floor = 0;
   /// A step whose embedding inverts elements is split into halves, at most
   /// this many times (2^k sub-steps).
@@ -172,6 +172,15 @@ struct DensityGrid;
 Status improve_deformed_region(RegionMesh& region, const DensityGrid* density, double density_scale,
                                double quality_floor, double* vertex_ratio = nullptr);
 
+/// Penetration (bad motion input): walks from each of `vertices` (the moving
+/// object's surface vertices) to its position in `target` through the tets
+/// (a visibility walk, exact orientation tests). Fails, naming the vertex's
+/// target position, when the walk leaves the domain through its outer
+/// boundary or ends in a tet of another object (material > 0 and not
+/// `moving`). `material_by_origin` is indexed by tet_origin.
+Status detect_penetration(const TetMesh& mesh, const std::vector<int>& material_by_origin, int moving,
+                          const std::vector<index_t>& vertices, const std::vector<Vec3>& target);
+
 /// Mean and minimum stretch of the live tets of a mesh.
 void stretch_range(const TetMesh& mesh, double* min, double* mean);
 
@@ -204,6 +213,7 @@ class AdaptSession {
   std::vector<index_t> object_vertices_;   ///< the moving object's vertices
   std::vector<Vec3> object_rest_;          ///< their positions at step 0
   std::vector<index_t> object_index_;      ///< per vertex slot: index into object_vertices_, or -1
+  std::vector<index_t> object_surface_;    ///< the moving object's surface vertices
   RigidMotion motion_;
   AdaptOptions options_;
   RigidPose pose_;                          ///< pose of the current step

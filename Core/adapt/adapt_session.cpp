@@ -104,7 +104,10 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
     if (on_other[v])
       return Status::failure("the moving object (material " + std::to_string(options.moving_object) +
                              ") shares vertices with another object: objects in contact are not supported yet");
-    if (on_surface[v]) surface.push_back(mesh_.point(v));
+    if (on_surface[v]) {
+      surface.push_back(mesh_.point(v));
+      object_surface_.push_back(v);
+    }
     olo = olo.cwiseMin(mesh_.point(v));
     ohi = ohi.cwiseMax(mesh_.point(v));
   }
@@ -146,7 +149,7 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
   double input_min = 0;
   stretch_range(mesh_, &input_min, nullptr);
   input_vertices_ = mesh_.live_vertices();
-  quality_floor_ = options.quality_floor > 0 ? options.quality_floor : std::clamp(input_min, 0.1, 0.4);
+  quality_floor_ = options.quality_floor > 0 ? options.quality_floor : std::clamp(1.1 * input_min, 0.1, 0.4);
   return Status::success();
 }
 

@@ -98,10 +98,13 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
   }
   std::vector<Tet> tets;
   std::vector<index_t> origins;
+  std::vector<std::array<index_t, 3>> boundary;
   for (index_t t = 0; t < sub.tet_slots(); ++t) {
     if (!sub.tet_alive(t)) continue;
     Tet T = sub.tet(t);
     for (index_t& v : T) v = name[v];
+    for (int f = 0; f < 4; ++f)
+      if (sub.is_boundary_face(t, f)) boundary.push_back({T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]});
     tets.push_back(T);
     origins.push_back(mesh_.tet_origin(rm.global_tet[sub.tet_origin(t)]));
   }
@@ -111,7 +114,7 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     previous[v] = mesh_.point(rm.global_vertex[v]);
     if (sub.vertex_alive(v)) mesh_.set_point(rm.global_vertex[v], sub.point(v));
   }
-  s = mesh_.replace_cavity(region, tets, origins, new_points, new_origins);
+  s = mesh_.replace_cavity(region, tets, origins, new_points, new_origins, nullptr, &boundary);
   if (!s) {
     for (index_t v = 0; v < built; ++v) mesh_.set_point(rm.global_vertex[v], previous[v]);
     return Status::failure("the adapted region could not be put back (" + s.message + ")");
@@ -136,6 +139,13 @@ Status AdaptSession::advance(AdaptStepReport* report_out) {
   report.step = next;
   report.substeps = 0;
   const RigidPose target = motion_.pose(next);
+  {
+    std::vector<Vec3> moved(object_surface_.size());
+    for (std::size_t i = 0; i < object_surface_.size(); ++i)
+      moved[i] = target.apply(object_rest_[object_index_[object_surface_[i]]]);
+    const Status p = detect_penetration(mesh_, material_, options_.moving_object, object_surface_, moved);
+    if (!p) return Status::failure("step " + std::to_string(next) + " refused: " + p.message + " (earlier steps are kept)");
+  }
   // A failed attempt leaves the mesh as it was; only sub-steps need a copy
   // to return to (taken at the first halving, before any sub-step is done).
   TetMesh saved_mesh;

@@ -122,6 +122,9 @@ std::vector<index_t> extract_deformed_region(const TetMesh& mesh, const std::vec
   for (std::size_t q = 0; q < candidates.size(); ++q) {
     const index_t v = candidates[q];
     mesh.vertex_ball(v, ball);
+    // A ball all in the region, off the domain's boundary, is not pinched.
+    if (!mesh.on_boundary(v) && std::all_of(ball.begin(), ball.end(), [&](index_t t) { return in_region[t] != 0; }))
+      continue;
     if (ball_is_manifold(mesh, v, ball, in_region)) continue;
     const std::size_t before = region.size();
     take_ball(v);

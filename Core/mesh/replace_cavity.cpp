@@ -10,7 +10,8 @@ namespace femorph {
 
 Status TetMesh::replace_cavity(const std::vector<index_t>& old_tets, const std::vector<Tet>& new_tets,
                                const std::vector<index_t>& new_origins, const std::vector<Vec3>& new_points,
-                               const std::vector<VertexStencil>& new_point_origins, std::vector<index_t>* created) {
+                               const std::vector<VertexStencil>& new_point_origins, std::vector<index_t>* created,
+                               const std::vector<std::array<index_t, 3>>* given_boundary) {
   if (new_origins.size() != new_tets.size() || new_point_origins.size() != new_points.size())
     return Status::failure("replace_cavity: array sizes differ");
   // Boundary faces (sorted ids -> count) of the old and of the new tets, new
@@ -33,17 +34,22 @@ Status TetMesh::replace_cavity(const std::vector<index_t>& old_tets, const std::
       const Tet& T = rec_[t].v;
       cavity_faces.push_back(key(T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]));
     }
-  for (const Tet& T : new_tets)
-    for (int f = 0; f < 4; ++f) new_faces.push_back(key(T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]));
   std::sort(cavity_faces.begin(), cavity_faces.end());
-  std::sort(new_faces.begin(), new_faces.end());
   std::vector<Key> new_boundary;
-  for (std::size_t i = 0; i < new_faces.size();) {
-    std::size_t j = i;
-    while (j < new_faces.size() && new_faces[j] == new_faces[i]) ++j;
-    if (j - i > 2) return Status::failure("replace_cavity: a face of the new tets is shared by more than two");
-    if (j - i == 1) new_boundary.push_back(new_faces[i]);
-    i = j;
+  if (given_boundary) {
+    for (const auto& f : *given_boundary) new_boundary.push_back(key(f[0], f[1], f[2]));
+    std::sort(new_boundary.begin(), new_boundary.end());
+  } else {
+    for (const Tet& T : new_tets)
+      for (int f = 0; f < 4; ++f) new_faces.push_back(key(T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]));
+    std::sort(new_faces.begin(), new_faces.end());
+    for (std::size_t i = 0; i < new_faces.size();) {
+      std::size_t j = i;
+      while (j < new_faces.size() && new_faces[j] == new_faces[i]) ++j;
+      if (j - i > 2) return Status::failure("replace_cavity: a face of the new tets is shared by more than two");
+      if (j - i == 1) new_boundary.push_back(new_faces[i]);
+      i = j;
+    }
   }
   if (new_boundary != cavity_faces)
     return Status::failure("replace_cavity: the new tets' boundary differs from the cavity's");
@@ -62,14 +68,16 @@ Status TetMesh::replace_cavity(const std::vector<index_t>& old_tets, const std::
   std::vector<index_t> sorted_old = old_tets;
   replace_tets(sorted_old, tets, new_origins, kInvalidIndex, kInvalidIndex);
   // Cavity vertices no new tet uses (and no outer tet: they were inside).
-  std::sort(cavity_vertices.begin(), cavity_vertices.end());
-  cavity_vertices.erase(std::unique(cavity_vertices.begin(), cavity_vertices.end()), cavity_vertices.end());
-  std::vector<index_t> kept;
-  for (const Key& k : cavity_faces) kept.insert(kept.end(), k.begin(), k.end());
-  for (const Tet& T : tets) kept.insert(kept.end(), T.begin(), T.end());
-  std::sort(kept.begin(), kept.end());
+  std::vector<char> kept(points_.size(), 0);
+  for (const Key& k : cavity_faces)
+    for (const index_t v : k) kept[v] = 1;
+  for (const Tet& T : tets)
+    for (const index_t v : T) kept[v] = 1;
   for (const index_t v : cavity_vertices)
-    if (!std::binary_search(kept.begin(), kept.end(), v)) delete_vertex(v);
+    if (!kept[v] && vertex_tet_[v] != kInvalidIndex) {
+      kept[v] = 1;  // once
+      delete_vertex(v);
+    }
   if (created) *created = std::move(ids);
   return Status::success();
 }

@@ -334,10 +334,13 @@ class TetMesh {
   /// the cavity's boundary, face for face; otherwise nothing changes and the
   /// call fails. Vertices of the cavity no new tet uses are deleted. Fills
   /// touched_ with the new tets; `created`, when given, receives the ids of
-  /// the new points.
+  /// the new points. `new_boundary`, when given, lists the boundary faces of
+  /// the new tets (ids as in new_tets, any order), known to the caller (a
+  /// mesh's faces without neighbour): the check then sorts those only.
   Status replace_cavity(const std::vector<index_t>& old_tets, const std::vector<Tet>& new_tets,
                         const std::vector<index_t>& new_origins, const std::vector<Vec3>& new_points,
-                        const std::vector<VertexStencil>& new_point_origins, std::vector<index_t>* created = nullptr);
+                        const std::vector<VertexStencil>& new_point_origins, std::vector<index_t>* created = nullptr,
+                        const std::vector<std::array<index_t, 3>>* new_boundary = nullptr);
 
   /// Live tets the last accepted operation created or changed.
   const std::vector<index_t>& touched_tets() const { return touched_; }

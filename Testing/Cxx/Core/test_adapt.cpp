@@ -216,8 +216,36 @@ TEST(AdaptSession, AStepIntoTheWallIsRefusedAndEarlierStepsKept) {
   ASSERT_FALSE(st.ok) << "the object went through the wall";
   EXPECT_NE(st.message.find("step " + std::to_string(last_good + 1) + " refused"), std::string::npos) << st.message;
   EXPECT_EQ(s.current_step(), last_good);
+  // The object's right face is at x = 4 after 6 of 0.6, past the wall at
+  // x = 6 after 4: refused by then, at the latest for crossing the boundary.
+  EXPECT_LE(last_good, 3);
   const AdaptOutput out = s.output();
   EXPECT_TRUE(check_validity(out.points, out.tets).ok());
+}
+
+TEST(AdaptSession, AStepIntoAnotherObjectIsRefusedNamingIt) {
+  // Object 1: cubes x 3..4, y 2..3, z 2; object 2: the cubes at x = 6 (a
+  // gap of one cube). A step of 1.5 along x puts object 1 inside object 2.
+  const std::array<int, 3> cells{{9, 6, 5}};
+  MaterialMesh in = make_block_in_box(cells, {2, 2, 1}, 1.0, 0.1, 4, {{3, 2, 2}});
+  for (int j = 2; j < 4; ++j) {
+    const int cube = (2 * cells[1] + j) * cells[0] + 6;
+    for (int k = 0; k < 12; ++k) in.material[static_cast<std::size_t>(12 * cube + k)] = 2;
+  }
+  RigidMotion motion;
+  motion.translation_per_step = Vec3(1.5, 0, 0);
+  AdaptSession s;
+  ASSERT_TRUE(s.init(in.points, in.tets, in.material, motion, {}).ok);
+  const Status st = s.advance();
+  ASSERT_FALSE(st.ok);
+  EXPECT_NE(st.message.find("step 1 refused"), std::string::npos) << st.message;
+  EXPECT_NE(st.message.find("penetrate object 2"), std::string::npos) << st.message;
+  EXPECT_EQ(s.current_step(), 0);
+  // Half of it is no penetration: object 1 ends 0.25 from object 2.
+  RigidMotion slow;
+  slow.translation_per_step = Vec3(0.25, 0, 0);
+  ASSERT_TRUE(s.init(in.points, in.tets, in.material, slow, {}).ok);
+  for (int n = 1; n <= 3; ++n) EXPECT_TRUE(s.advance().ok) << "step " << n;
 }
 
 }  // namespace
