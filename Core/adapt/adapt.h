@@ -19,6 +19,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -101,7 +102,12 @@ struct AdaptOutput {
   std::vector<Tet> tets;
   std::vector<int> material;                  ///< per tet
   std::vector<index_t> cell_origin;           ///< per tet: the input cell it descends from
-  std::vector<VertexStencil> point_origin;    ///< per point: input points and weights (field transfer)
+  std::vector<VertexStencil> point_origin;    ///< per point: the input points it descends from (material-following)
+  /// Per point: its data in the previous step's output (dense ids, weights):
+  /// the same point for the object's vertices and the unchanged ones, the
+  /// previous field interpolated at its position for the moved space
+  /// vertices (field transfer). Empty at step 0.
+  std::vector<VertexStencil> point_previous;
 };
 
 /// 3.4.1: G_v, the fixed grid of the vertices: cell (i, j, k) holds the
@@ -162,6 +168,21 @@ Status make_region_mesh(const TetMesh& mesh, const std::vector<index_t>& region,
 /// or fails when the system cannot be solved.
 Status embed_deformed_region(RegionMesh& region, const std::vector<std::uint8_t>& moved,
                              const std::vector<Vec3>& moved_position, std::size_t* inner_vertices);
+
+/// Field transfer (beyond the thesis): where each vertex of the adapted
+/// region `now` takes its data from in the region as it was (`before`: the
+/// region mesh before the embedding, same build-time vertex ids), as a
+/// stencil over `origin` (per build-time vertex of `before`, stencils into
+/// the previous step's points): linear interpolation at the vertex's
+/// position. A vertex whose position lies outside the old region (in the
+/// volume the object left) is handed to `beyond` with the position and the
+/// three vertices of the boundary face the walk left by; when it finds
+/// nothing, the vertex keeps its own (or its build-time stencil's) data.
+/// Returns one stencil per vertex slot of `now`.
+using TransferBeyond = std::function<bool(const Vec3& p, const std::array<index_t, 3>& face, VertexStencil& out)>;
+std::vector<VertexStencil> transfer_point_data(const TetMesh& before, const TetMesh& now,
+                                               const std::vector<VertexStencil>& origin,
+                                               const TransferBeyond& beyond = nullptr);
 
 /// 3.6: Improve's Phased ODT on the region with its boundary fixed; the
 /// target density is the input's (a spatial field). Repairs inverted tets.
@@ -232,6 +253,7 @@ class AdaptSession {
   std::size_t input_vertices_ = 0;
   int step_ = 0;
   std::vector<double> stretch_;             ///< per tet slot (cache; NaN dead)
+  std::vector<VertexStencil> step_origin_;  ///< per vertex slot: AdaptOutput::point_previous
 };
 
 }  // namespace femorph

@@ -181,6 +181,7 @@ AdaptOutput AdaptSession::output() const {
     id[v] = static_cast<index_t>(out.points.size());
     out.points.push_back(mesh_.point(v));
     out.point_origin.push_back(mesh_.vertex_origin(v));
+    if (step_ > 0) out.point_previous.push_back(step_origin_[v]);
   }
   for (index_t t = 0; t < mesh_.tet_slots(); ++t) {
     if (!mesh_.tet_alive(t)) continue;

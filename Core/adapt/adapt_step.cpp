@@ -48,6 +48,7 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     moved_position[v] = to.apply(object_rest_[k]);
   }
   std::size_t inner = 0;
+  const TetMesh before = rm.mesh;
   s = embed_deformed_region(rm, moved, moved_position, &inner);
   report.seconds_embed += since();
   if (!s) return s;
@@ -61,9 +62,7 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
       return Status::failure("the embedding inverts elements");
     }
   if (options_.improve) {
-    double ratio = 1;
-    s = improve_deformed_region(rm, density_.get(), density_scale_, quality_floor_, &ratio);
-    (void)ratio;
+    s = improve_deformed_region(rm, density_.get(), density_scale_, quality_floor_);
     report.seconds_improve += since();
     if (!s) {
       *retry = true;
@@ -71,12 +70,59 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     }
   }
 
+  // Where each vertex of the adapted region takes its data from in the
+  // previous step's mesh: interpolated in space (field transfer). Beyond the
+  // region's old boundary on the object's side: the object's tets at the
+  // previous pose (their rest positions, mapped back).
+  std::vector<VertexStencil> previous(static_cast<std::size_t>(built));
+  for (index_t v = 0; v < built; ++v) previous[v] = step_origin_[rm.global_vertex[v]];
+  const RigidPose back = pose_.inverse();
+  const TransferBeyond into_object = [&](const Vec3& p, const std::array<index_t, 3>& face, VertexStencil& out) {
+    const index_t a = rm.global_vertex[face[0]], b = rm.global_vertex[face[1]], c = rm.global_vertex[face[2]];
+    int lf = 0;
+    index_t t = mesh_.find_face(a, b, c, &lf);
+    if (t < 0) return false;
+    if (material_[mesh_.tet_origin(t)] != options_.moving_object) {
+      const index_t code = mesh_.adjacency(t, lf);
+      if (code < 0) return false;
+      t = code >> 2;
+      if (material_[mesh_.tet_origin(t)] != options_.moving_object) return false;
+    }
+    const Vec3 q = back.apply(p);
+    const auto rest = [&](index_t v) { return object_rest_[object_index_[v]]; };
+    for (int steps = 0; steps < 1000; ++steps) {
+      const Tet& T = mesh_.tet(t);
+      Eigen::Matrix3d m;
+      m.col(0) = rest(T[1]) - rest(T[0]);
+      m.col(1) = rest(T[2]) - rest(T[0]);
+      m.col(2) = rest(T[3]) - rest(T[0]);
+      const Vec3 x = m.partialPivLu().solve(q - rest(T[0]));
+      const double w[4] = {1 - x.sum(), x.x(), x.y(), x.z()};
+      int worst = 0;
+      for (int k = 1; k < 4; ++k)
+        if (w[k] < w[worst]) worst = k;
+      if (w[worst] >= -1e-12) {
+        const VertexStencil* stencils[4];
+        for (int k = 0; k < 4; ++k) stencils[k] = &step_origin_[T[k]];
+        out = combine_stencils(stencils, w, 4);
+        return true;
+      }
+      const index_t code = mesh_.adjacency(t, worst);
+      if (code < 0 || material_[mesh_.tet_origin(code >> 2)] != options_.moving_object) return false;
+      t = code >> 2;
+    }
+    return false;
+  };
+  std::vector<VertexStencil> origin = transfer_point_data(before, rm.mesh, previous, into_object);
+  for (index_t v = 0; v < built; ++v)
+    if (moved[v]) origin[v] = previous[v];  // the object's data moves with it
+
   // Splice the region back: build-time vertices keep their ids, new ones
   // are created with stencils composed back to the input's points.
   const TetMesh& sub = rm.mesh;
   std::vector<index_t> name(static_cast<std::size_t>(sub.vertex_slots()), kInvalidIndex);
   std::vector<Vec3> new_points;
-  std::vector<VertexStencil> new_origins;
+  std::vector<VertexStencil> new_origins, new_step_origins;
   for (index_t v = 0; v < sub.vertex_slots(); ++v) {
     if (!sub.vertex_alive(v)) continue;
     if (v < built) {
@@ -85,16 +131,18 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     }
     name[v] = -1 - static_cast<index_t>(new_points.size());
     new_points.push_back(sub.point(v));
+    // The region's stencil (build-time ids) composed with the input's.
     const VertexStencil& local = sub.vertex_origin(v);
-    const VertexStencil* stencils[4];
+    const VertexStencil* input[4];
     double weights[4];
     int n = 0;
     for (int k = 0; k < 4; ++k)
       if (local.ids[k] >= 0 && local.ids[k] < built) {
-        stencils[n] = &mesh_.vertex_origin(rm.global_vertex[local.ids[k]]);
+        input[n] = &mesh_.vertex_origin(rm.global_vertex[local.ids[k]]);
         weights[n++] = local.weights[k];
       }
-    new_origins.push_back(n ? combine_stencils(stencils, weights, n) : VertexStencil());
+    new_origins.push_back(n ? combine_stencils(input, weights, n) : VertexStencil());
+    new_step_origins.push_back(origin[v]);
   }
   std::vector<Tet> tets;
   std::vector<index_t> origins;
@@ -109,17 +157,23 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     origins.push_back(mesh_.tet_origin(rm.global_tet[sub.tet_origin(t)]));
   }
   // Positions first (replace_cavity compares ids only).
-  std::vector<Vec3> previous(static_cast<std::size_t>(built));
+  std::vector<Vec3> previous_position(static_cast<std::size_t>(built));
   for (index_t v = 0; v < built; ++v) {
-    previous[v] = mesh_.point(rm.global_vertex[v]);
+    previous_position[v] = mesh_.point(rm.global_vertex[v]);
     if (sub.vertex_alive(v)) mesh_.set_point(rm.global_vertex[v], sub.point(v));
   }
-  s = mesh_.replace_cavity(region, tets, origins, new_points, new_origins, nullptr, &boundary);
+  std::vector<index_t> created;
+  s = mesh_.replace_cavity(region, tets, origins, new_points, new_origins, &created, &boundary);
   if (!s) {
-    for (index_t v = 0; v < built; ++v) mesh_.set_point(rm.global_vertex[v], previous[v]);
+    for (index_t v = 0; v < built; ++v) mesh_.set_point(rm.global_vertex[v], previous_position[v]);
     return Status::failure("the adapted region could not be put back (" + s.message + ")");
   }
   refresh_stretch(region, mesh_.touched_tets());
+  if (step_origin_.size() < static_cast<std::size_t>(mesh_.vertex_slots()))
+    step_origin_.resize(static_cast<std::size_t>(mesh_.vertex_slots()));
+  for (index_t v = 0; v < built; ++v)
+    if (sub.vertex_alive(v)) step_origin_[rm.global_vertex[v]] = origin[v];
+  for (std::size_t i = 0; i < created.size(); ++i) step_origin_[created[i]] = new_step_origins[i];
   // (ii) the whole object moves rigidly (its inside is no part of K_Df).
   for (std::size_t k = 0; k < object_vertices_.size(); ++k)
     mesh_.set_point(object_vertices_[k], to.apply(object_rest_[k]));
@@ -135,6 +189,18 @@ Status AdaptSession::advance(AdaptStepReport* report_out) {
   if (!motion_.table.empty() && next > static_cast<int>(motion_.table.size()))
     return Status::failure("step " + std::to_string(next) + " is beyond the motion table's " +
                            std::to_string(motion_.table.size()) + " rows");
+  // Each vertex's data source in this step's input (the previous output,
+  // dense ids): itself, until the region's adaptation says otherwise.
+  std::vector<VertexStencil> last_step_origin = std::move(step_origin_);
+  step_origin_.assign(static_cast<std::size_t>(mesh_.vertex_slots()), VertexStencil());
+  {
+    index_t dense = 0;
+    for (index_t v = 0; v < mesh_.vertex_slots(); ++v)
+      if (mesh_.vertex_alive(v)) {
+        step_origin_[v].ids[0] = dense++;
+        step_origin_[v].weights[0] = 1;
+      }
+  }
   AdaptStepReport report;
   report.step = next;
   report.substeps = 0;
@@ -144,7 +210,8 @@ Status AdaptSession::advance(AdaptStepReport* report_out) {
     for (std::size_t i = 0; i < object_surface_.size(); ++i)
       moved[i] = target.apply(object_rest_[object_index_[object_surface_[i]]]);
     const Status p = detect_penetration(mesh_, material_, options_.moving_object, object_surface_, moved);
-    if (!p) return Status::failure("step " + std::to_string(next) + " refused: " + p.message + " (earlier steps are kept)");
+    if (!p)
+      return Status::failure("step " + std::to_string(next) + " refused: " + p.message + " (earlier steps are kept)");
   }
   // A failed attempt leaves the mesh as it was; only sub-steps need a copy
   // to return to (taken at the first halving, before any sub-step is done).
@@ -172,6 +239,7 @@ Status AdaptSession::advance(AdaptStepReport* report_out) {
       }
       continue;
     }
+    step_origin_ = std::move(last_step_origin);
     if (halvings > 0) {
       mesh_ = std::move(saved_mesh);
       stretch_ = std::move(saved_stretch);

@@ -5,10 +5,10 @@
 namespace femorph {
 
 VertexStencil combine_stencils(const VertexStencil* const* stencils, const double* weights, int n) {
-  // At most 3 stencils of 4 entries: a fixed buffer, merged by id.
-  std::pair<index_t, double> terms[12];
+  // At most 4 stencils of 4 entries: a fixed buffer, merged by id.
+  std::pair<index_t, double> terms[16];
   int count = 0;
-  for (int s = 0; s < n && s < 3; ++s)
+  for (int s = 0; s < n && s < 4; ++s)
     for (int k = 0; k < 4; ++k) {
       const index_t id = stencils[s]->ids[k];
       if (id < 0) continue;
@@ -19,7 +19,7 @@ VertexStencil combine_stencils(const VertexStencil* const* stencils, const doubl
       terms[i].second += w;
     }
   // Largest weights first (ties by id, for reproducibility); insertion sort
-  // of at most 12 terms.
+  // of at most 16 terms.
   for (int i = 1; i < count; ++i)
     for (int j = i; j > 0; --j) {
       const auto& x = terms[j];
