@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 
@@ -493,6 +494,141 @@ femorph::Status vtkFEMorphMeshConversion::ReadCellMask(vtkUnstructuredGrid* grid
     mask[static_cast<std::size_t>(c)] = v != 0;
   }
   return femorph::Status::success();
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+/// Integer VTK data types: ids and labels, which have no weighted mean.
+bool IsIntegerType(int type)
+{
+  switch (type)
+  {
+    case VTK_BIT:
+    case VTK_CHAR:
+    case VTK_SIGNED_CHAR:
+    case VTK_UNSIGNED_CHAR:
+    case VTK_SHORT:
+    case VTK_UNSIGNED_SHORT:
+    case VTK_INT:
+    case VTK_UNSIGNED_INT:
+    case VTK_LONG:
+    case VTK_UNSIGNED_LONG:
+    case VTK_LONG_LONG:
+    case VTK_UNSIGNED_LONG_LONG:
+    case VTK_ID_TYPE:
+      return true;
+    default:
+      return false;
+  }
+}
+}
+
+femorph::Status vtkFEMorphMeshConversion::ReadCellIds(vtkUnstructuredGrid* grid,
+  const std::string& name, const std::string& property, std::vector<int>& ids)
+{
+  ids.clear();
+  const std::string what = property + " is '" + name + "', but ";
+  vtkAbstractArray* array = grid->GetCellData()->GetAbstractArray(name.c_str());
+  if (!array)
+  {
+    const bool onPoints = grid->GetPointData()->GetAbstractArray(name.c_str()) != nullptr;
+    return femorph::Status::failure(what + "the input has no cell array of that name" +
+      (onPoints ? " (it is a point array; the ids are per cell)." : "."));
+  }
+  vtkDataArray* values = vtkDataArray::SafeDownCast(array);
+  if (!values || !IsIntegerType(values->GetDataType()))
+  {
+    return femorph::Status::failure(what + "that cell array holds " + array->GetDataTypeAsString() +
+      " values; ids need an integer array (int, short, char, long ...).");
+  }
+  const vtkIdType numCells = grid->GetNumberOfCells();
+  if (values->GetNumberOfTuples() != numCells || values->GetNumberOfComponents() != 1)
+  {
+    return femorph::Status::failure(what + "that cell array has " +
+      std::to_string(values->GetNumberOfTuples()) + " values of " +
+      std::to_string(values->GetNumberOfComponents()) + " components; one value per cell (" +
+      std::to_string(numCells) + ") is needed.");
+  }
+  ids.resize(static_cast<std::size_t>(numCells));
+  for (vtkIdType c = 0; c < numCells; ++c)
+  {
+    const double v = values->GetComponent(c, 0);
+    if (!(v >= 0 && v <= std::numeric_limits<int>::max()))
+    {
+      ids.clear();
+      std::ostringstream os;
+      os << what << "that cell array has the value " << std::fixed << std::setprecision(0) << v
+         << " at cell " << c << "; ids must be in [0, " << std::numeric_limits<int>::max() << "].";
+      return femorph::Status::failure(os.str());
+    }
+    ids[static_cast<std::size_t>(c)] = static_cast<int>(v);
+  }
+  return femorph::Status::success();
+}
+
+//------------------------------------------------------------------------------
+void vtkFEMorphMeshConversion::InterpolatePointData(vtkUnstructuredGrid* input,
+  const std::vector<femorph::VertexStencil>& stencils, vtkUnstructuredGrid* output)
+{
+  vtkPointData* inPD = input->GetPointData();
+  vtkPointData* outPD = output->GetPointData();
+  const vtkIdType numPoints = static_cast<vtkIdType>(stencils.size());
+  const vtkIdType numInputPoints = input->GetNumberOfPoints();
+  outPD->InterpolateAllocate(inPD, numPoints);
+  // Integer and non-numeric arrays, paired with their input array by name,
+  // take the largest weight's tuple after the interpolation.
+  std::vector<std::pair<vtkAbstractArray*, vtkAbstractArray*>> nearest;
+  for (int a = 0; a < outPD->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* out = outPD->GetAbstractArray(a);
+    auto* data = vtkDataArray::SafeDownCast(out);
+    vtkAbstractArray* in = out->GetName() ? inPD->GetAbstractArray(out->GetName()) : nullptr;
+    if (in && (!data || IsIntegerType(data->GetDataType())))
+    {
+      nearest.emplace_back(out, in);
+    }
+  }
+  vtkNew<vtkIdList> ids;
+  ids->Allocate(4);
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    const femorph::VertexStencil& stencil = stencils[static_cast<std::size_t>(i)];
+    double weights[4];
+    vtkIdType largest = -1;
+    double largestWeight = 0;
+    ids->Reset();
+    for (int k = 0; k < 4; ++k)
+    {
+      const vtkIdType id = stencil.ids[k];
+      if (id >= 0 && id < numInputPoints && stencil.weights[k] != 0)
+      {
+        weights[ids->GetNumberOfIds()] = stencil.weights[k];
+        ids->InsertNextId(id);
+        if (largest < 0 || stencil.weights[k] > largestWeight)
+        {
+          largest = id;
+          largestWeight = stencil.weights[k];
+        }
+      }
+    }
+    if (ids->GetNumberOfIds() == 1 && weights[0] == 1)
+    {
+      outPD->CopyData(inPD, ids->GetId(0), i);
+    }
+    else if (ids->GetNumberOfIds() > 0)
+    {
+      outPD->InterpolatePoint(inPD, i, ids, weights);
+      for (const auto& pair : nearest)
+      {
+        pair.first->InsertTuple(i, largest, pair.second);
+      }
+    }
+    else
+    {
+      outPD->NullData(i);
+    }
+  }
 }
 
 //------------------------------------------------------------------------------

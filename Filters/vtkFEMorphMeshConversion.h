@@ -121,6 +121,28 @@ public:
     const std::string& property, std::vector<std::uint8_t>& mask);
 
   /**
+   * The cell array `name` of `grid` as ids (e.g. material ids): an integer
+   * array (not float, not string) with one component, one value per cell,
+   * every value in [0, INT_MAX]. Fails with a message naming the array (as
+   * `property` 'name') and what is wrong, the first offending cell for a
+   * value; `ids` is then empty.
+   */
+  static femorph::Status ReadCellIds(vtkUnstructuredGrid* grid, const std::string& name,
+    const std::string& property, std::vector<int>& ids);
+
+  /**
+   * Point data of `output` (with its points set, one per stencil) from
+   * `input`'s: point i takes the weighted sum of the tuples of its stencil's
+   * input points (ids -1 unused); a point that is one input point copies its
+   * tuple exactly; integer and non-numeric arrays (named ones: they are
+   * paired with the input's by name) take the tuple of the largest weight,
+   * since an id or a label has no mean. GlobalIds and
+   * PedigreeIds are left out (as InterpolateAllocate does).
+   */
+  static void InterpolatePointData(vtkUnstructuredGrid* input,
+    const std::vector<femorph::VertexStencil>& stencils, vtkUnstructuredGrid* output);
+
+  /**
    * Builds `mesh` from `input` (tetrahedra only) with `options`. On failure
    * the status names the problem and `mesh` is left empty; warnings
    * (dropped points) are appended to `warnings` when not null.

@@ -202,6 +202,17 @@ Status improve_deformed_region(RegionMesh& region, const DensityGrid* density, d
 Status detect_penetration(const TetMesh& mesh, const std::vector<int>& material_by_origin, int moving,
                           const std::vector<index_t>& vertices, const std::vector<Vec3>& target);
 
+/// Beyond the thesis: a space mesh (material 0) around the objects of a tet
+/// mesh (every tet an object's, material > 0), filling the box [lo, hi] by
+/// TetGen's constrained Delaunay refinement with no Steiner point on the
+/// objects' surfaces nor on the box (whose faces are cut into triangles of
+/// edge `edge`; <= 0: 4 x the objects' mean surface edge); the sizes grade
+/// between the two. The objects' tets and points come first in the output,
+/// as given.
+Status mesh_space_around(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
+                         const std::vector<int>& material, const Vec3& lo, const Vec3& hi, double edge,
+                         std::vector<Vec3>& out_points, std::vector<Tet>& out_tets, std::vector<int>& out_material);
+
 /// Mean and minimum stretch of the live tets of a mesh.
 void stretch_range(const TetMesh& mesh, double* min, double* mean);
 

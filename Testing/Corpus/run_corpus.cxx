@@ -18,6 +18,7 @@
 // file has the details.
 #include "corpus_manifest.h"
 
+#include "vtkFEMorphAdapt.h"
 #include "vtkFEMorphDeform.h"
 #include "vtkFEMorphHexToTet.h"
 #include "vtkFEMorphImprove.h"
@@ -33,6 +34,7 @@
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkIdList.h"
+#include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -796,7 +798,7 @@ bool IsEmpty(vtkDataObject* data)
 }
 
 //------------------------------------------------------------------------------
-// The filters. Deform and Adapt go here when they exist.
+// The filters.
 
 struct FilterRun
 {
@@ -807,10 +809,10 @@ struct FilterRun
   std::vector<vtkSmartPointer<vtkDataObject>> Outputs;
 };
 
-/// Runs `algorithm` on `input` (and `reference` on port 1 when given),
-/// recording its messages.
+/// Runs `algorithm` on `input` (and `reference` on port 1 when given), at
+/// `time` when it is a number, recording its messages.
 FilterRun RunAlgorithm(vtkAlgorithm* algorithm, vtkUnstructuredGrid* input,
-  vtkUnstructuredGrid* reference)
+  vtkUnstructuredGrid* reference, double time = std::nan(""))
 {
   FilterRun run;
   vtkNew<Recorder> messages;
@@ -822,7 +824,8 @@ FilterRun RunAlgorithm(vtkAlgorithm* algorithm, vtkUnstructuredGrid* input,
   {
     algorithm->SetInputDataObject(1, reference);
   }
-  run.PipelineOk = algorithm->GetExecutive()->Update() != 0;
+  run.PipelineOk =
+    (std::isnan(time) ? algorithm->GetExecutive()->Update() : algorithm->UpdateTimeStep(time)) != 0;
   run.Errors = messages->Errors;
   run.Warnings = messages->Warnings;
   run.PipelineErrors = pipeline->Errors;
@@ -831,6 +834,131 @@ FilterRun RunAlgorithm(vtkAlgorithm* algorithm, vtkUnstructuredGrid* input,
     run.Outputs.emplace_back(algorithm->GetOutputDataObject(port));
   }
   return run;
+}
+
+/**
+ * Adapt's assembly: `input` shallow-copied into `assembly` (the input's
+ * arrays shared, not changed) with the cell array MaterialId: 1 on the
+ * tetrahedron nearest the centre of the points' box whose points are all
+ * off the boundary (faces of one tetrahedron), 0 elsewhere. Cells with ids
+ * out of range or another point count are skipped. Returns that
+ * tetrahedron's shortest edge (the motion's scale: the space around it is
+ * about as thick), 0 when no tetrahedron qualifies.
+ */
+double MakeAssembly(vtkUnstructuredGrid* input, vtkUnstructuredGrid* assembly)
+{
+  assembly->ShallowCopy(input);
+  const vtkIdType numCells = input->GetNumberOfCells();
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  vtkNew<vtkIntArray> material;
+  material->SetName("MaterialId");
+  material->SetNumberOfValues(numCells);
+  material->Fill(0);
+  assembly->GetCellData()->AddArray(material);
+  if (!input->GetPoints() || numPoints == 0)
+  {
+    return 0;
+  }
+  using Triple = std::array<vtkIdType, 3>;
+  std::vector<Triple> faces;
+  std::vector<vtkIdType> tets;
+  vtkIdType npts = 0;
+  const vtkIdType* pts = nullptr;
+  for (vtkIdType c = 0; c < numCells; ++c)
+  {
+    if (input->GetCellType(c) != VTK_TETRA)
+    {
+      continue;
+    }
+    input->GetCellPoints(c, npts, pts);
+    if (npts != 4 || std::any_of(pts, pts + 4, [&](vtkIdType p) { return p < 0 || p >= numPoints; }))
+    {
+      continue;
+    }
+    tets.push_back(c);
+    for (int f = 0; f < 4; ++f)
+    {
+      Triple t = { pts[(f + 1) % 4], pts[(f + 2) % 4], pts[(f + 3) % 4] };
+      std::sort(t.begin(), t.end());
+      faces.push_back(t);
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  std::vector<char> boundary(static_cast<std::size_t>(numPoints), 0);
+  for (std::size_t i = 0; i < faces.size();)
+  {
+    std::size_t j = i;
+    while (j < faces.size() && faces[j] == faces[i])
+    {
+      ++j;
+    }
+    if (j - i == 1)
+    {
+      for (const vtkIdType p : faces[i])
+      {
+        boundary[static_cast<std::size_t>(p)] = 1;
+      }
+    }
+    i = j;
+  }
+  double lo[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL }, hi[3] = { -HUGE_VAL, -HUGE_VAL, -HUGE_VAL };
+  for (vtkIdType p = 0; p < numPoints; ++p)
+  {
+    double x[3];
+    input->GetPoint(p, x);
+    for (int k = 0; k < 3; ++k)
+    {
+      if (std::isfinite(x[k]))
+      {
+        lo[k] = std::min(lo[k], x[k]);
+        hi[k] = std::max(hi[k], x[k]);
+      }
+    }
+  }
+  vtkIdType best = -1;
+  double bestDistance = HUGE_VAL;
+  for (const vtkIdType c : tets)
+  {
+    input->GetCellPoints(c, npts, pts);
+    if (std::any_of(pts, pts + 4, [&](vtkIdType p) { return boundary[static_cast<std::size_t>(p)] != 0; }))
+    {
+      continue;
+    }
+    double d = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      double centroid = 0;
+      for (int v = 0; v < 4; ++v)
+      {
+        centroid += 0.25 * input->GetPoint(pts[v])[k];
+      }
+      d += (centroid - 0.5 * (lo[k] + hi[k])) * (centroid - 0.5 * (lo[k] + hi[k]));
+    }
+    if (d < bestDistance)
+    {
+      best = c;
+      bestDistance = d;
+    }
+  }
+  if (best < 0)
+  {
+    return 0;
+  }
+  material->SetValue(best, 1);
+  input->GetCellPoints(best, npts, pts);
+  double shortest = HUGE_VAL;
+  for (int a = 0; a < 4; ++a)
+  {
+    for (int b = a + 1; b < 4; ++b)
+    {
+      double x[3], y[3];
+      input->GetPoint(pts[a], x);
+      input->GetPoint(pts[b], y);
+      const double d2 = (x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) + (x[2] - y[2]) * (x[2] - y[2]);
+      shortest = std::min(shortest, std::sqrt(d2));
+    }
+  }
+  return std::isfinite(shortest) ? shortest : 0;
 }
 
 struct FilterSpec
@@ -962,6 +1090,27 @@ std::vector<FilterSpec> Filters()
       MeshRules rules;
       rules.Types = { VTK_HEXAHEDRON, VTK_WEDGE, VTK_PYRAMID, VTK_TETRA };
       rules.PositiveVolume = true;
+      return CheckFirstOutput(run, rules);
+    } });
+  filters.push_back({ "Adapt",
+    [](vtkUnstructuredGrid* input, vtkUnstructuredGrid*, const CaseEntry&) {
+      // One inner tetrahedron as the object (MaterialId on a shallow copy),
+      // moved by 5% of its shortest edge in one step: the core's whole step
+      // runs on every case it accepts, and no motion that small is refused
+      // (a refused step is an error with the last good mesh as output).
+      vtkNew<vtkUnstructuredGrid> assembly;
+      const double edge = MakeAssembly(input, assembly);
+      vtkNew<vtkFEMorphAdapt> filter;
+      filter->SetTranslationPerStep(0.05 * edge, 0, 0);
+      filter->SetNumberOfSteps(1);
+      return RunAlgorithm(filter, assembly, nullptr, 1.0);
+    },
+    [](vtkUnstructuredGrid*, const FilterRun& run) {
+      MeshRules rules;
+      rules.Types = { VTK_TETRA };
+      rules.PositiveVolume = true;
+      rules.FacesShared = true;
+      rules.ClosedBoundary = true;
       return CheckFirstOutput(run, rules);
     } });
   return filters;
@@ -1692,7 +1841,7 @@ void Usage()
        "  --jobs N               children at a time (default 2)\n"
        "  --timeout-scale S      multiply every case's timeout (e.g. 4 under sanitizers)\n"
        "  --filter NAME          only this filter (repeatable): MeshQuality, Segment, Improve,\n"
-       "                         Deform, HexToTet, TetToHex\n"
+       "                         Deform, HexToTet, TetToHex, Adapt\n"
        "  --case TEXT            only cases whose name contains TEXT\n"
        "  --report FILE          every (case, filter) with its outcome, as TSV\n"
        "  --logs DIR             the children's logs (kept for failures; default\n"

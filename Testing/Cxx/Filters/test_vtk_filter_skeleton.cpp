@@ -3,6 +3,7 @@
 // table below.
 #include "filters_test_utils.h"
 
+#include "vtkFEMorphAdapt.h"
 #include "vtkFEMorphAlgorithm.h"
 #include "vtkFEMorphHexToTet.h"
 #include "vtkFEMorphDeform.h"
@@ -80,6 +81,9 @@ const FilterCase Filters[] = {
   { "Deform", MakeDeform,
     [](vtkFEMorphAlgorithm* f) { vtkFEMorphDeform::SafeDownCast(f)->SetTargetValue(NaN); },
     "TargetValue", true },
+  { "Adapt", Make<vtkFEMorphAdapt>,
+    [](vtkFEMorphAlgorithm* f) { vtkFEMorphAdapt::SafeDownCast(f)->SetDistanceThreshold(NaN); },
+    "DistanceThreshold", true },
   { "HexToTet", Make<vtkFEMorphHexToTet>, {}, nullptr, true },
   { "TetToHex", Make<vtkFEMorphTetToHex>,
     [](vtkFEMorphAlgorithm* f) { vtkFEMorphTetToHex::SafeDownCast(f)->SetMinScaledJacobian(NaN); },
