@@ -87,6 +87,9 @@ struct AdaptStepReport {
   double min_stretch = 0, mean_stretch = 0;
   std::size_t deformed_region_tets = 0;  ///< K_Df, summed over sub-steps
   std::size_t inner_vertices = 0;       ///< unknowns of Eq. 3.2, summed over sub-steps
+  /// Vertices whose position changed in the step (the object's, the moved
+  /// and the new space vertices; over sub-steps, an upper bound).
+  std::size_t moved_vertices = 0;
   std::size_t contact_faces = 0;        ///< faces shared by the moving and another object
   int substeps = 1;
   double seconds = 0;

@@ -169,6 +169,9 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     return Status::failure("the adapted region could not be put back (" + s.message + ")");
   }
   refresh_stretch(region, mesh_.touched_tets());
+  std::size_t moved_space = new_points.size();
+  for (index_t v = 0; v < built; ++v) moved_space += !moved[v] && sub.vertex_alive(v) && sub.point(v) != previous_position[v];
+  report.moved_vertices += moved_space + object_vertices_.size();
   if (step_origin_.size() < static_cast<std::size_t>(mesh_.vertex_slots()))
     step_origin_.resize(static_cast<std::size_t>(mesh_.vertex_slots()));
   for (index_t v = 0; v < built; ++v)

@@ -31,32 +31,14 @@ Status embed_deformed_region(RegionMesh& region, const std::vector<std::uint8_t>
   using Triplet = Eigen::Triplet<double>;
   std::vector<Triplet> a;
   Eigen::MatrixXd b = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(unknowns.size()), 3);
-  std::vector<index_t> ball, ring_ids;
-  std::vector<Vec3> ring;
-  std::vector<Tri> link;
+  std::vector<index_t> ring_ids;
   std::vector<double> weights;
   const auto known_position = [&](index_t w) -> Vec3 {
     return w < static_cast<index_t>(moved.size()) && moved[w] ? moved_position[w] : mesh.point(w);
   };
   for (std::size_t i = 0; i < unknowns.size(); ++i) {
     const index_t v = unknowns[i];
-    mesh.vertex_ball(v, ball);
-    ring.clear();
-    ring_ids.clear();
-    link.clear();
-    const auto local = [&](index_t id) {
-      const auto it = std::find(ring_ids.begin(), ring_ids.end(), id);
-      if (it != ring_ids.end()) return static_cast<index_t>(it - ring_ids.begin());
-      ring_ids.push_back(id);
-      ring.push_back(mesh.point(id));
-      return static_cast<index_t>(ring_ids.size() - 1);
-    };
-    for (const index_t t : ball) {
-      const int lv = mesh.local_index(t, v);
-      const Tet& T = mesh.tet(t);
-      link.push_back({local(T[kTetFace[lv][0]]), local(T[kTetFace[lv][1]]), local(T[kTetFace[lv][2]])});
-    }
-    mean_value_coordinates_3d(mesh.point(v), ring, link, weights);
+    vertex_ring_mvc(mesh, v, ring_ids, weights);
     a.emplace_back(static_cast<int>(i), static_cast<int>(i), 1.0);
     for (std::size_t j = 0; j < ring_ids.size(); ++j) {
       const index_t w = ring_ids[j];

@@ -157,6 +157,11 @@ void mean_value_coordinates_2d(const Vec3& x, const std::vector<Vec3>& vertices,
 bool mean_value_coordinates_3d(const Vec3& x, const std::vector<Vec3>& vertices, const std::vector<Tri>& triangles,
                                std::vector<double>& weights);
 
+/// The 3D mean value coordinates of vertex v in its 1-ring polyhedron (the
+/// link of its ball, Eq. 2.10's handle vertices; thesis 3.5.3's Eq. 3.1):
+/// `ids` the ring's vertices, `weights` theirs. For inner vertices.
+void vertex_ring_mvc(const TetMesh& mesh, index_t v, std::vector<index_t>& ids, std::vector<double>& weights);
+
 /// The deformable region (2.5.3): per tet slot 1 when the deformation may
 /// move its vertices: the tets of the vertices nearer (along the mesh's
 /// edges) to a moved region than to every fixed one or within `reach` of a

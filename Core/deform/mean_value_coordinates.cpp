@@ -95,4 +95,27 @@ bool mean_value_coordinates_3d(const Vec3& x, const std::vector<Vec3>& vertices,
   return true;
 }
 
+void vertex_ring_mvc(const TetMesh& mesh, index_t v, std::vector<index_t>& ids, std::vector<double>& weights) {
+  thread_local std::vector<index_t> ball;
+  thread_local std::vector<Vec3> ring;
+  thread_local std::vector<Tri> link;
+  mesh.vertex_ball(v, ball);
+  ids.clear();
+  ring.clear();
+  link.clear();
+  const auto local = [&](index_t id) {
+    const auto it = std::find(ids.begin(), ids.end(), id);
+    if (it != ids.end()) return static_cast<index_t>(it - ids.begin());
+    ids.push_back(id);
+    ring.push_back(mesh.point(id));
+    return static_cast<index_t>(ids.size() - 1);
+  };
+  for (const index_t t : ball) {
+    const int i = mesh.local_index(t, v);
+    const Tet& T = mesh.tet(t);
+    link.push_back({local(T[kTetFace[i][0]]), local(T[kTetFace[i][1]]), local(T[kTetFace[i][2]])});
+  }
+  mean_value_coordinates_3d(mesh.point(v), ring, link, weights);
+}
+
 }  // namespace femorph

@@ -236,27 +236,9 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
 
   // Inner vertices: 3D mean value coordinates of their 1-ring polyhedron.
   if (inner) {
-    std::vector<index_t> ball;
-    std::vector<Tri> link;
     for (index_t v = 0; v < nv; ++v) {
       if (out.kind[v] != Param::Inner) continue;
-      mesh.vertex_ball(v, ball);
-      ring.clear();
-      ring_ids.clear();
-      link.clear();
-      const auto local = [&](index_t id) {
-        const auto it = std::find(ring_ids.begin(), ring_ids.end(), id);
-        if (it != ring_ids.end()) return static_cast<index_t>(it - ring_ids.begin());
-        ring_ids.push_back(id);
-        ring.push_back(mesh.point(id));
-        return static_cast<index_t>(ring_ids.size() - 1);
-      };
-      for (const index_t t : ball) {
-        const int i = mesh.local_index(t, v);
-        const Tet& T = mesh.tet(t);
-        link.push_back({local(T[kTetFace[i][0]]), local(T[kTetFace[i][1]]), local(T[kTetFace[i][2]])});
-      }
-      mean_value_coordinates_3d(mesh.point(v), ring, link, weights);
+      vertex_ring_mvc(mesh, v, ring_ids, weights);
       inner_rows.unknowns.push_back(v);
       std::vector<std::pair<index_t, double>> row;
       for (std::size_t j = 0; j < ring_ids.size(); ++j) row.emplace_back(ring_ids[j], weights[j]);

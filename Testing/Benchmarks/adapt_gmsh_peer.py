@@ -44,36 +44,12 @@ import time
 import numpy as np
 import gmsh
 
-TET_EDGES = np.array([(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)])
-OUTWARD = np.array([(1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1)])
 GMSH_TET = 4
 
-
-def signed_volumes(points, tets):
-    p0, p1, p2, p3 = (points[tets[:, i]] for i in range(4))
-    return np.einsum("ij,ij->i", p1 - p0, np.cross(p2 - p0, p3 - p0)) / 6.0
-
-
-def stretch(points, tets):
-    """Thesis Eq. 1.1, 6 sqrt(6) V / (L_max A) (adapt_check.stretch)."""
-    x = points[tets]
-    v = signed_volumes(points, tets)
-    e = x[:, TET_EDGES[:, 1]] - x[:, TET_EDGES[:, 0]]
-    lmax = np.sqrt(np.max(np.einsum("ijk,ijk->ij", e, e), axis=1))
-    f = x[:, OUTWARD]
-    area = 0.5 * np.linalg.norm(np.cross(f[:, :, 1] - f[:, :, 0], f[:, :, 2] - f[:, :, 0]),
-                                axis=2).sum(axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = 6.0 * math.sqrt(6.0) * v / (lmax * area)
-    return np.where(np.isfinite(s), s, 0.0)
-
-
-def rotation(axis, degrees):
-    a = np.asarray(axis, dtype=float)
-    a = a / np.linalg.norm(a)
-    t = math.radians(degrees)
-    k = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-    return np.eye(3) + math.sin(t) * k + (1 - math.cos(t)) * (k @ k)
+# The checker's measures (Testing/Python/adapt_check.py): one definition of
+# the stretch (thesis Eq. 1.1) and of the motion for the peer and the checks.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "Python"))
+from adapt_check import rotation, signed_volumes, stretch  # noqa: E402
 
 
 class Case:
