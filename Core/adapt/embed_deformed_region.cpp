@@ -57,15 +57,15 @@ Status embed_deformed_region(RegionMesh& region, const std::vector<std::uint8_t>
   // The positions before the motion solve the system for the old boundary
   // (MVC reproduce linear functions), so they start an iterative solve that
   // needs few iterations for a small step; a direct solve is the fallback.
+  // The matrix is I - W with W's rows summing to at most 1: BiCGSTAB needs
+  // no preconditioner (an incomplete LU cost more than it saved).
   Eigen::MatrixXd x(static_cast<Eigen::Index>(unknowns.size()), 3);
   for (std::size_t i = 0; i < unknowns.size(); ++i) x.row(static_cast<Eigen::Index>(i)) = mesh.point(unknowns[i]).transpose();
   bool solved = false;
   {
-    Eigen::BiCGSTAB<Eigen::SparseMatrix<double>, Eigen::IncompleteLUT<double>> solver;
-    solver.preconditioner().setDroptol(1e-3);
-    solver.preconditioner().setFillfactor(2);
+    Eigen::BiCGSTAB<Eigen::SparseMatrix<double>> solver;
     solver.setTolerance(1e-12);
-    solver.setMaxIterations(200);
+    solver.setMaxIterations(500);
     solver.compute(matrix);
     if (solver.info() == Eigen::Success) {
       solved = true;

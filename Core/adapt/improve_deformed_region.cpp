@@ -36,6 +36,7 @@ Status improve_deformed_region(RegionMesh& region, const DensityGrid* density, d
   options.split_threshold /= density_scale;
   options.collapse_threshold /= density_scale;
   options.relax_edge_lengths = false;
+  options.odt_iterations = 1;
   // Vertex ids are mapped back to the space mesh: no renumbering.
   options.sort_min_tets = std::numeric_limits<std::size_t>::max();
   const PhasedOdtStats stats = phased_odt(region.mesh, kNoGeometry, target, options);

@@ -35,8 +35,10 @@ bool mean_value_coordinates_3d(const Vec3& x, const std::vector<Vec3>& vertices,
                                std::vector<double>& weights) {
   const std::size_t n = vertices.size();
   weights.assign(n, 0.0);
-  std::vector<Vec3> u(n);
-  std::vector<double> d(n);
+  thread_local std::vector<Vec3> u;
+  thread_local std::vector<double> d;
+  u.resize(n);
+  d.resize(n);
   for (std::size_t j = 0; j < n; ++j) {
     const Vec3 r = vertices[j] - x;
     d[j] = r.norm();
@@ -49,19 +51,22 @@ bool mean_value_coordinates_3d(const Vec3& x, const std::vector<Vec3>& vertices,
   constexpr double eps = 1e-12;
   for (const Tri& tri : triangles) {
     const int i[3] = {static_cast<int>(tri[0]), static_cast<int>(tri[1]), static_cast<int>(tri[2])};
-    double theta[3], c[3], s[3];
+    double theta[3], sin_theta[3], c[3], s[3];
     double h = 0;
     for (int k = 0; k < 3; ++k) {
-      // Arc lengths L^s of the spherical triangle (Eq. 2.18's terms).
-      const double l = (u[i[(k + 1) % 3]] - u[i[(k + 2) % 3]]).norm();
-      theta[k] = 2 * std::asin(std::min(1.0, 0.5 * l));
+      // Arc lengths L^s of the spherical triangle (Eq. 2.18's terms): the
+      // chord l of the arc theta is 2 sin(theta / 2), so sin(theta) =
+      // l sqrt(1 - l^2 / 4) needs no more trigonometry.
+      const double half = std::min(1.0, 0.5 * (u[i[(k + 1) % 3]] - u[i[(k + 2) % 3]]).norm());
+      theta[k] = 2 * std::asin(half);
+      sin_theta[k] = 2 * half * std::sqrt(std::max(0.0, 1 - half * half));
       h += 0.5 * theta[k];
     }
     if (kPi - h < eps) {
       // x lies on this triangle: barycentric coordinates.
       double b[3], sum = 0;
       for (int k = 0; k < 3; ++k) {
-        b[k] = std::sin(theta[k]) * d[i[(k + 2) % 3]] * d[i[(k + 1) % 3]];
+        b[k] = sin_theta[k] * d[i[(k + 2) % 3]] * d[i[(k + 1) % 3]];
         sum += b[k];
       }
       std::fill(weights.begin(), weights.end(), 0.0);
@@ -71,10 +76,11 @@ bool mean_value_coordinates_3d(const Vec3& x, const std::vector<Vec3>& vertices,
     const double det = u[i[0]].dot(u[i[1]].cross(u[i[2]]));
     const double sign = det < 0 ? -1.0 : 1.0;
     bool skip = false;
+    const double sin_h = std::sin(h);
     for (int k = 0; k < 3; ++k) {
       // Eq. 2.17: the angles of the spherical triangle.
-      const double denom = std::sin(theta[(k + 1) % 3]) * std::sin(theta[(k + 2) % 3]);
-      c[k] = denom > 0 ? 2 * std::sin(h) * std::sin(h - theta[k]) / denom - 1 : 1;
+      const double denom = sin_theta[(k + 1) % 3] * sin_theta[(k + 2) % 3];
+      c[k] = denom > 0 ? 2 * sin_h * std::sin(h - theta[k]) / denom - 1 : 1;
       c[k] = std::clamp(c[k], -1.0, 1.0);
       s[k] = sign * std::sqrt(std::max(0.0, 1 - c[k] * c[k]));
       if (std::abs(s[k]) <= eps) skip = true;  // x in the triangle's plane, outside it
@@ -84,7 +90,7 @@ bool mean_value_coordinates_3d(const Vec3& x, const std::vector<Vec3>& vertices,
       const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
       // Eq. 2.16.
       weights[i[k]] += (theta[k] - c[k1] * theta[k2] - c[k2] * theta[k1]) /
-                       (d[i[k]] * std::sin(theta[k1]) * s[k2]);
+                       (d[i[k]] * sin_theta[k1] * s[k2]);
     }
   }
   double sum = 0;
