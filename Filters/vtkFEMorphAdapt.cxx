@@ -171,7 +171,7 @@ femorph::Status ReadMotionTable(vtkTable* table, int rows, std::vector<femorph::
 /// step by step (`data`, null without point data), the input's cell data by
 /// each tet's input cell.
 void WriteStep(const femorph::AdaptOutput& out, vtkUnstructuredGrid* input, vtkUnstructuredGrid* data,
-  const std::string& material, vtkUnstructuredGrid* output)
+  const std::string& material, const femorph::AdaptStepReport& report, vtkUnstructuredGrid* output)
 {
   output->SetPoints(vtkFEMorphMeshConversion::NewPoints(out.points));
   vtkFEMorphMeshConversion::SetTetCells(output, out.tets);
@@ -197,7 +197,14 @@ void WriteStep(const femorph::AdaptOutput& out, vtkUnstructuredGrid* input, vtkU
   {
     cd->SetActiveScalars(material.c_str());
   }
-  output->GetFieldData()->PassData(input->GetFieldData());
+  vtkFieldData* fd = output->GetFieldData();
+  fd->PassData(input->GetFieldData());
+  // What the step did (also a row of output 1).
+  vtkFEMorphAlgorithm::AddCount(fd, "AdaptStep", report.step);
+  vtkFEMorphAlgorithm::AddSummary(
+    fd, "AdaptStretch", { { "Min", report.min_stretch }, { "Mean", report.mean_stretch } });
+  vtkFEMorphAlgorithm::AddCount(fd, "AdaptDeformedRegionTets", static_cast<vtkIdType>(report.deformed_region_tets));
+  vtkFEMorphAlgorithm::AddCount(fd, "AdaptSubsteps", report.substeps);
 }
 
 /// Output 1: one row per step report.
@@ -642,7 +649,13 @@ bool vtkFEMorphAdapt::Execute(
   }
   else
   {
-    WriteStep(session->output(), input, data, this->MaterialArray, output);
+    femorph::AdaptStepReport report;
+    report.step = target;
+    if (static_cast<std::size_t>(target) < cache.Reports.size())
+    {
+      report = cache.Reports[static_cast<std::size_t>(target)];
+    }
+    WriteStep(session->output(), input, data, this->MaterialArray, report, output);
   }
   WriteSteps(cache.Reports, target, stepsOutput);
   for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)

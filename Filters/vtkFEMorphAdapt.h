@@ -66,7 +66,9 @@
  * input carried step by step (field transfer: at the object's points it
  * moves with the object, at the space points the previous step's field is
  * interpolated at their new position; integer arrays take the value of the
- * largest weight), the input's field data.
+ * largest weight), the input's field data, and (from step 1) a summary in
+ * field data: AdaptStep, AdaptStretch (Min, Mean), AdaptDeformedRegionTets,
+ * AdaptSubsteps.
  *
  * Output 1 ("Steps"): a vtkTable, one row per step 0..requested step:
  * Step, Vertices, Tetrahedra, MinStretch, MeanStretch, DeformedRegionTets

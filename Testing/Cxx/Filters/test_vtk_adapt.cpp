@@ -15,6 +15,8 @@
 #include "vtkExecutive.h"
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -325,6 +327,15 @@ TEST_F(AdaptTest, ThreeStepsValidRigidAndCached)
   vtkUnstructuredGrid* out = this->Filter->GetMeshOutput();
   ASSERT_GT(out->GetNumberOfCells(), 0);
   EXPECT_EQ(out->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()), 3);
+  // The step's summary in field data.
+  auto* step = vtkIdTypeArray::SafeDownCast(out->GetFieldData()->GetArray("AdaptStep"));
+  ASSERT_NE(step, nullptr);
+  EXPECT_EQ(step->GetValue(0), 3);
+  vtkDataArray* stretch = out->GetFieldData()->GetArray("AdaptStretch");
+  ASSERT_NE(stretch, nullptr);
+  ASSERT_EQ(stretch->GetNumberOfComponents(), 2);
+  EXPECT_GT(stretch->GetComponent(0, 0), 0.0);
+  EXPECT_GE(stretch->GetComponent(0, 1), stretch->GetComponent(0, 0));
 
   // Valid and conforming; the outer boundary is the input's.
   const MeshCheck check = CheckMesh(out);
