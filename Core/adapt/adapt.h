@@ -233,15 +233,16 @@ class AdaptSession {
   /// between the object and the boundary), and the message says why.
   Status advance(AdaptStepReport* report = nullptr);
   int current_step() const { return step_; }
-  /// The report of step 0 (the input).
+  /// The report of step 0 (the input), whatever step the session is at.
   AdaptStepReport initial_report() const;
   AdaptOutput output() const;
   std::size_t memory_bytes() const;
 
  private:
-  /// One sub-step to pose `to` (adapt_step.cpp); false in *retry when a
-  /// smaller sub-step may succeed.
-  Status move_to(const RigidPose& to, AdaptStepReport& report, bool* retry);
+  /// One sub-step to pose `to` (adapt_step.cpp); true in *retry when a
+  /// smaller sub-step may succeed. With `keep_quality`, a region whose
+  /// minimum stretch ends below the input's minimum is such a failure.
+  Status move_to(const RigidPose& to, AdaptStepReport& report, bool* retry, bool keep_quality);
   void refresh_stretch(const std::vector<index_t>& removed, const std::vector<index_t>& added);
   TetMesh mesh_;
   std::vector<int> material_;              ///< per input tet (by tet_origin)
@@ -257,6 +258,8 @@ class AdaptSession {
   Vec3 box_lo_ = Vec3::Zero(), box_hi_ = Vec3::Zero();
   double cell_ = 1;
   double quality_floor_ = 0.3;
+  double input_min_stretch_ = 0;
+  AdaptStepReport initial_;                 ///< step 0, the input
   /// Scale of the target density: the improvement of 3.6 drives a region
   /// toward isotropic tets of the input's mean edge length, which for a
   /// mesh of mixed edge lengths (the 12-tet cubes of 3.7.2) has fewer

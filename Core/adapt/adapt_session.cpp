@@ -146,9 +146,14 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
   for (index_t t = 0; t < mesh_.tet_slots(); ++t)
     if (mesh_.tet_alive(t)) all.push_back(t);
   refresh_stretch({}, all);
-  double input_min = 0;
-  stretch_range(mesh_, &input_min, nullptr);
+  initial_ = AdaptStepReport();
+  initial_.vertices = mesh_.live_vertices();
+  initial_.tets = mesh_.live_tets();
+  stretch_range(mesh_, &initial_.min_stretch, &initial_.mean_stretch);
+  initial_.substeps = 0;
+  const double input_min = initial_.min_stretch;
   input_vertices_ = mesh_.live_vertices();
+  input_min_stretch_ = input_min;
   quality_floor_ = options.quality_floor > 0 ? options.quality_floor : std::clamp(1.1 * input_min, 0.1, 0.4);
   return Status::success();
 }
@@ -163,15 +168,7 @@ void AdaptSession::refresh_stretch(const std::vector<index_t>& removed, const st
   }
 }
 
-AdaptStepReport AdaptSession::initial_report() const {
-  AdaptStepReport r;
-  r.step = 0;
-  r.vertices = mesh_.live_vertices();
-  r.tets = mesh_.live_tets();
-  stretch_range(mesh_, &r.min_stretch, &r.mean_stretch);
-  r.substeps = 0;
-  return r;
-}
+AdaptStepReport AdaptSession::initial_report() const { return initial_; }
 
 AdaptOutput AdaptSession::output() const {
   AdaptOutput out;

@@ -17,7 +17,7 @@
 
 namespace femorph {
 
-Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool* retry) {
+Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool* retry, bool keep_quality) {
   *retry = false;
   using Clock = std::chrono::steady_clock;
   auto lap = Clock::now();
@@ -67,6 +67,17 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     if (!s) {
       *retry = true;
       return s;
+    }
+  }
+  // The goal: no step below the input's minimum stretch. A region that
+  // ends below it is tried again in smaller sub-steps (the last halvings
+  // accept it).
+  if (keep_quality) {
+    double region_min = 0;
+    stretch_range(rm.mesh, &region_min, nullptr);
+    if (region_min < input_min_stretch_) {
+      *retry = true;
+      return Status::failure("the adapted region's minimum stretch would fall below the input's");
     }
   }
 
@@ -229,7 +240,8 @@ Status AdaptSession::advance(AdaptStepReport* report_out) {
     const RigidPose rest = target.after(pose_.inverse());
     const RigidPose to = fraction >= 1 ? target : rest.fraction(fraction).after(pose_);
     bool retry = false;
-    const Status s = move_to(to, report, &retry);
+    // Sub-steps for quality alone: at most 1 / 8 of the step.
+    const Status s = move_to(to, report, &retry, options_.improve && halvings < std::min(3, options_.max_halvings));
     if (s) {
       done += (1 - done) * fraction;
       ++report.substeps;
