@@ -186,6 +186,8 @@ struct OtherMotion {
   int steps;
 };
 
+void PrintTo(const OtherMotion& m, std::ostream* os) { *os << m.name; }
+
 class OtherMotions : public ::testing::TestWithParam<OtherMotion> {};
 
 TEST_P(OtherMotions, StayValidAndAboveTheInputsMinimumStretch) {
