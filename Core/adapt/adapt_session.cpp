@@ -95,6 +95,23 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
       for (int k = 0; k < 3; ++k) on_surface[mesh_.tet(t)[kTetFace[f][k]]] = 1;
     }
   }
+  // An object none of whose surface faces borders another tet is a mesh of
+  // its own: its interface with the space is not conformal (unmerged
+  // duplicate points, or parts meshed separately: the assembly mode).
+  std::size_t surface_faces = 0, shared_faces = 0;
+  for (index_t t = 0; t < mesh_.tet_slots(); ++t) {
+    if (material_[mesh_.tet_origin(t)] != options.moving_object) continue;
+    for (int f = 0; f < 4; ++f) {
+      const index_t code = mesh_.adjacency(t, f);
+      if (code >= 0 && material_[mesh_.tet_origin(code >> 2)] == options.moving_object) continue;
+      ++surface_faces;
+      shared_faces += code >= 0;
+    }
+  }
+  if (surface_faces > 0 && shared_faces == 0)
+    return Status::failure("the moving object (material " + std::to_string(options.moving_object) +
+                           ") shares no face with the space mesh: the interface is not conformal (merge coincident "
+                           "points first; separately meshed parts, the assembly mode, are not supported yet)");
   std::vector<Vec3> surface;
   Vec3 olo = Vec3::Constant(std::numeric_limits<double>::infinity()), ohi = -olo;
   for (const index_t v : object_vertices_) {

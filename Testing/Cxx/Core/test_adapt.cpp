@@ -300,6 +300,25 @@ TEST(AdaptSession, BadInputIsRefusedWithAMessage) {
   touching[0] = 1;
   st = s.init(in.points, in.tets, touching, motion, {});
   EXPECT_FALSE(st.ok);
+  EXPECT_NE(st.message.find("outer boundary"), std::string::npos) << st.message;
+  // An object whose points are duplicated (not merged with the space's):
+  // a non-conformal interface.
+  std::vector<Vec3> points = in.points;
+  std::vector<Tet> tets = in.tets;
+  std::vector<index_t> copy(points.size(), kInvalidIndex);
+  for (std::size_t t = 0; t < tets.size(); ++t) {
+    if (in.material[t] != 1) continue;
+    for (index_t& v : tets[t]) {
+      if (copy[v] < 0) {
+        copy[v] = static_cast<index_t>(points.size());
+        points.push_back(points[v]);
+      }
+      v = copy[v];
+    }
+  }
+  st = s.init(points, tets, in.material, motion, {});
+  EXPECT_FALSE(st.ok);
+  EXPECT_NE(st.message.find("not conformal"), std::string::npos) << st.message;
 }
 
 TEST(AdaptSession, AStepIntoTheWallIsRefusedAndEarlierStepsKept) {
