@@ -190,11 +190,10 @@ std::vector<VertexStencil> transfer_point_data(const TetMesh& before, const TetM
 /// 3.6: Improve's Phased ODT on the region with its boundary fixed; the
 /// target density is the input's (a spatial field). Repairs inverted tets.
 /// `density_scale` multiplies the target density (AdaptSession keeps the
-/// vertex count with it); `vertex_ratio` receives the region's vertex count
-/// after over before.
+/// vertex count with it).
 struct DensityGrid;
 Status improve_deformed_region(RegionMesh& region, const DensityGrid* density, double density_scale,
-                               double quality_floor, double* vertex_ratio = nullptr);
+                               double quality_floor);
 
 /// Penetration (bad motion input): walks from each of `vertices` (the moving
 /// object's surface vertices) to its position in `target` through the tets

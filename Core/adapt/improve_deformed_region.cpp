@@ -17,8 +17,7 @@
 namespace femorph {
 
 Status improve_deformed_region(RegionMesh& region, const DensityGrid* density, double density_scale,
-                               double quality_floor, double* vertex_ratio) {
-  const double vertices_before = static_cast<double>(region.mesh.live_vertices());
+                               double quality_floor) {
   static const BoundaryGeometry kNoGeometry;
   PhasedOdtTarget target;
   target.density = density;
@@ -40,7 +39,6 @@ Status improve_deformed_region(RegionMesh& region, const DensityGrid* density, d
   // Vertex ids are mapped back to the space mesh: no renumbering.
   options.sort_min_tets = std::numeric_limits<std::size_t>::max();
   const PhasedOdtStats stats = phased_odt(region.mesh, kNoGeometry, target, options);
-  if (vertex_ratio) *vertex_ratio = static_cast<double>(region.mesh.live_vertices()) / vertices_before;
   if (!stats.remaining_inverted.empty()) {
     std::ostringstream os;
     os << stats.remaining_inverted.size() << " tetrahedra of the deformed region stay inverted after its improvement";
