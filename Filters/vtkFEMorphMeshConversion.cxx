@@ -23,6 +23,20 @@
 
 namespace
 {
+/// The shape every per-cell array must have: one component, one tuple per
+/// cell; `what` starts the message.
+femorph::Status OneValuePerCell(vtkDataArray* values, vtkIdType numCells, const std::string& what)
+{
+  if (values->GetNumberOfTuples() != numCells || values->GetNumberOfComponents() != 1)
+  {
+    return femorph::Status::failure(what + "that cell array has " +
+      std::to_string(values->GetNumberOfTuples()) + " values of " +
+      std::to_string(values->GetNumberOfComponents()) + " components; one value per cell (" +
+      std::to_string(numCells) + ") is needed.");
+  }
+  return femorph::Status::success();
+}
+
 // The core numbers vertices and tets with 32-bit ids.
 constexpr vtkIdType MaxCoreIndex = std::numeric_limits<femorph::index_t>::max();
 
@@ -474,12 +488,10 @@ femorph::Status vtkFEMorphMeshConversion::ReadCellMask(vtkUnstructuredGrid* grid
       array->GetDataTypeAsString() + " values).");
   }
   const vtkIdType numCells = grid->GetNumberOfCells();
-  if (values->GetNumberOfTuples() != numCells || values->GetNumberOfComponents() != 1)
+  const femorph::Status shape = OneValuePerCell(values, numCells, what);
+  if (!shape)
   {
-    return femorph::Status::failure(what + "that cell array has " +
-      std::to_string(values->GetNumberOfTuples()) + " values of " +
-      std::to_string(values->GetNumberOfComponents()) + " components; one value per cell (" +
-      std::to_string(numCells) + ") is needed.");
+    return shape;
   }
   mask.resize(static_cast<std::size_t>(numCells));
   for (vtkIdType c = 0; c < numCells; ++c)
@@ -543,12 +555,10 @@ femorph::Status vtkFEMorphMeshConversion::ReadCellIds(vtkUnstructuredGrid* grid,
       " values; ids need an integer array (int, short, char, long ...).");
   }
   const vtkIdType numCells = grid->GetNumberOfCells();
-  if (values->GetNumberOfTuples() != numCells || values->GetNumberOfComponents() != 1)
+  const femorph::Status shape = OneValuePerCell(values, numCells, what);
+  if (!shape)
   {
-    return femorph::Status::failure(what + "that cell array has " +
-      std::to_string(values->GetNumberOfTuples()) + " values of " +
-      std::to_string(values->GetNumberOfComponents()) + " components; one value per cell (" +
-      std::to_string(numCells) + ") is needed.");
+    return shape;
   }
   ids.resize(static_cast<std::size_t>(numCells));
   for (vtkIdType c = 0; c < numCells; ++c)
