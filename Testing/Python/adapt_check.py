@@ -62,7 +62,6 @@ from vtkmodules.util.numpy_support import (  # noqa: E402
     numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy)
 
 VTK_TETRA = 10
-TET_EDGES = np.array([(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)])
 # The face opposite local vertex i, oriented outwards for a positive tet.
 OUTWARD = np.array([(1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1)])
 
@@ -142,25 +141,9 @@ def matrix_pose(m, tolerance=1e-6):
 # Geometry and topology
 # ----------------------------------------------------------------------------
 
-def signed_volumes(points, tets):
-    p0, p1, p2, p3 = (points[tets[:, i]] for i in range(4))
-    return np.einsum("ij,ij->i", p1 - p0, np.cross(p2 - p0, p3 - p0)) / 6.0
-
-
-def stretch(points, tets):
-    """Thesis Eq. 1.1 (Core/quality's tet_stretch): 6 sqrt(6) V / (L_max A),
-    A the total area of the four faces; 1 for the regular tet, negative
-    when inverted, 0 when degenerate."""
-    x = points[tets]
-    v = signed_volumes(points, tets)
-    e = x[:, TET_EDGES[:, 1]] - x[:, TET_EDGES[:, 0]]
-    lmax = np.sqrt(np.max(np.einsum("ijk,ijk->ij", e, e), axis=1))
-    f = x[:, OUTWARD]
-    area = 0.5 * np.linalg.norm(np.cross(f[:, :, 1] - f[:, :, 0], f[:, :, 2] - f[:, :, 0]),
-                                axis=2).sum(axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = 6.0 * math.sqrt(6.0) * v / (lmax * area)
-    return np.where(np.isfinite(s), s, 0.0)
+# The volume and the stretch (thesis Eq. 1.1, Core/quality's tet_stretch):
+# one numpy definition for both independent checkers.
+from deform_check import signed_volumes, stretch  # noqa: E402,F401
 
 
 def triangle_areas(points, tris):
