@@ -2,6 +2,10 @@
 
 #include <tetgen.h>
 
+// Shewchuk's 2D predicates are compiled into libtet next to the 3D ones but
+// tetgen.h does not declare them.
+REAL orient2d(REAL* pa, REAL* pb, REAL* pc);
+REAL incircle(REAL* pa, REAL* pb, REAL* pc, REAL* pd);
 
 namespace femorph {
 namespace {
@@ -22,6 +26,8 @@ inline REAL* ptr(const Eigen::Vector3d& p) {
   return const_cast<REAL*>(p.data());
 }
 
+inline REAL* ptr(const Eigen::Vector2d& p) { return const_cast<REAL*>(p.data()); }
+
 inline int sign(REAL x) { return (x > 0) - (x < 0); }
 
 }  // namespace
@@ -41,6 +47,17 @@ int insphere_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   // Shewchuk's insphere expects orient3d(a, b, c, d) > 0; swapping a and b
   // turns our positive orientation into his.
   return sign(insphere(ptr(b), ptr(a), ptr(c), ptr(d), ptr(e)));
+}
+
+int orient2d_sign(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  ensure_exactinit();
+  return sign(orient2d(ptr(a), ptr(b), ptr(c)));
+}
+
+int incircle_sign(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                  const Eigen::Vector2d& d) {
+  ensure_exactinit();
+  return sign(incircle(ptr(a), ptr(b), ptr(c), ptr(d)));
 }
 
 }  // namespace femorph

@@ -21,4 +21,13 @@ int insphere_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                   const Eigen::Vector3d& c, const Eigen::Vector3d& d,
                   const Eigen::Vector3d& e);
 
+/// Sign of the area of triangle (a, b, c) in the plane, computed exactly:
+/// +1 when counter-clockwise, 0 when collinear, -1 when clockwise.
+int orient2d_sign(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c);
+
+/// Exact in-circle test for the counter-clockwise triangle (a, b, c): +1 when
+/// d lies strictly inside its circumcircle, 0 on it, -1 outside.
+int incircle_sign(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                  const Eigen::Vector2d& d);
+
 }  // namespace femorph
