@@ -36,6 +36,14 @@ box, counts, quality, the generator command). Deterministic: the same
 options give the same bytes.
 
 Without --out it writes the two kept cases into Data/adapt/ (DEFAULT_CASES).
+
+The contact case of thesis 3.7.3, Data/adapt/cylinder_half_tube.vtu and
+.json (a cylinder sliding into a half tube, both meshed by TetGen), is not
+made here (TetGen is C++) but by the test program make_adapt_case
+(Testing/Cxx/make_adapt_case.cpp, built with the tests):
+
+    cmake --build build --target make_adapt_case
+    build/bin/make_adapt_case Data/adapt/cylinder_half_tube.vtu
 """
 
 import argparse

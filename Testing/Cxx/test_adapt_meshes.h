@@ -2,14 +2,28 @@
 // Adapt tests and benchmark: a grid of cubes, a vertex at each cube's
 // centre, each cube cut into 12 tets (two triangles per square face, joined
 // to the centre), inner vertices jittered; material 1 on a block of cubes.
+// And the contact case of thesis 3.7.3 (make_cylinder_half_tube): a cylinder
+// and a half tube meshed by TetGen from exact surface triangulations, in a
+// space mesh made by mesh_space_around.
 #pragma once
 
+#include "adapt/adapt.h"
 #include "common/types.h"
+
+// TetGen's library API (femorph_core is built with the same define: its
+// inline terminatetetgen throws instead of calling exit()).
+#ifndef TETLIBRARY
+#define TETLIBRARY
+#endif
+#include <tetgen.h>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <map>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace femorph {
@@ -120,6 +134,328 @@ inline MaterialMesh make_block_in_box(std::array<int, 3> cells, std::array<int, 
           break;
         }
     }
+  return m;
+}
+
+/// Thesis 3.7.3 (Fig. 3.22): a cylinder (material 1, the moving object)
+/// translated along its axis z into a half tube of the same radius (material
+/// 2, fixed), in a box of space (material 0). Lengths in the units of the
+/// motion (thesis: 1 per step, 45 steps).
+struct CylinderHalfTube {
+  double r = 1.0;    ///< the cylinder's radius = the half tube's inner radius
+  double R = 1.6;    ///< the half tube's outer radius (> r)
+  double Lc = 3.0;   ///< the cylinder's length: z in [-Lc - gap, -gap] at step 0
+  double Lt = 4.0;   ///< the half tube's length: z in [0, Lt], y <= 0
+  double gap = 0.5;  ///< between the cylinder's front cap and the tube at step 0 (> 0: no contact)
+  /// Segments of the full circle (even, >= 4): theta = 0 and pi, the half
+  /// tube's inner edges (y = 0), are segment boundaries, and the tube's
+  /// inner half polygon is the cylinder's lower half polygon.
+  int n_theta = 12;
+  double margin = 1.5;  ///< space between the objects (over the travel) and the box
+  /// The cylinder's planned travel along +z; the box holds the cylinder
+  /// over it (< 0: Lt + gap, the front cap reaching the tube's far end).
+  double travel = -1;
+  double space_edge = 0;  ///< the box faces' edge (<= 0: mesh_space_around's default)
+
+  int n_half() const { return n_theta / 2; }
+  /// The surface triangulations' edge: the chord of one of n_theta segments
+  /// (the z spacing is the nearest to it that divides the lengths).
+  double edge() const { return 2 * r * std::sin(kPi / n_theta); }
+  /// Segments of the tube's outer half circle (its chord close to edge()).
+  int n_outer_half() const { return std::max(n_half(), static_cast<int>(std::lround(n_half() * R / r))); }
+  double planned_travel() const { return travel < 0 ? Lt + gap : travel; }
+
+  /// The sizes of the 3.7.3 benchmark (about the thesis' 160k tets):
+  /// 163k tets, 27k points (thesis: 160,791 and 31,530), surface edge 0.49.
+  static CylinderHalfTube benchmark() {
+    CylinderHalfTube g;
+    g.r = 5;
+    g.R = 8;
+    g.Lc = 20;
+    g.Lt = 45;
+    g.gap = 0.5;
+    g.n_theta = 64;
+    g.margin = 4;
+    g.travel = 45;
+    return g;
+  }
+
+  /// The volumes of the meshed polyhedra: the cylinder's n_theta-gon prism,
+  /// the half tube's prism between its outer and inner half polygons.
+  double cylinder_volume() const { return 0.5 * n_theta * r * r * std::sin(2 * kPi / n_theta) * Lc; }
+  double half_tube_volume() const {
+    const int no = n_outer_half(), ni = n_half();
+    return (0.5 * no * R * R * std::sin(kPi / no) - 0.5 * ni * r * r * std::sin(kPi / ni)) * Lt;
+  }
+};
+
+/// The contact of 3.7.3 after a translation s along +z (s = step at 1 per
+/// step): the cylinder's side over the tube's inner surface. overlap: the
+/// length of [front - Lc, front] and [0, Lt] in common, front = s - gap the
+/// cylinder's front cap; exact = pi r overlap (the analytic half cylinders);
+/// discrete = n_half chords 2 r sin(pi / (2 n_half)) x overlap (the area
+/// of the tube's inner half polygon over that length, which is the
+/// cylinder's lower half polygon). The 1% check of 3.7.3 uses `discrete`:
+/// both meshes are polygons, and discrete < exact by 1 - sinc(pi/n_theta)
+/// (1.1% for n_theta = 12, 0.16% for 32), so the exact area would fail a
+/// correct coarse mesh; tests report both.
+struct ContactArea {
+  double overlap = 0, exact = 0, discrete = 0;
+};
+inline ContactArea cylinder_half_tube_contact_area(const CylinderHalfTube& g, double s) {
+  ContactArea a;
+  const double front = s - g.gap;
+  a.overlap = std::max(0.0, std::min(front, g.Lt) - std::max(front - g.Lc, 0.0));
+  a.exact = kPi * g.r * a.overlap;
+  const int n = g.n_half();
+  a.discrete = n * 2 * g.r * std::sin(kPi / (2 * n)) * a.overlap;
+  return a;
+}
+
+namespace detail {
+
+/// A closed triangulated surface being built: points merged by position.
+struct SurfaceBuilder {
+  std::vector<Vec3> points;
+  std::vector<std::array<index_t, 3>> triangles;
+  std::map<std::array<long long, 3>, index_t> ids;
+  double quantum = 1e-9;
+
+  index_t point(const Vec3& p) {
+    const std::array<long long, 3> key{
+        {std::llround(p.x() / quantum), std::llround(p.y() / quantum), std::llround(p.z() / quantum)}};
+    const auto it = ids.find(key);
+    if (it != ids.end()) return it->second;
+    const index_t id = static_cast<index_t>(points.size());
+    points.push_back(p);
+    ids.emplace(key, id);
+    return id;
+  }
+  void triangle(index_t a, index_t b, index_t c) {
+    if (a != b && b != c && a != c) triangles.push_back({{a, b, c}});
+  }
+  /// A quad (a b c d in cyclic order) as two triangles; `flip`
+  /// chooses the diagonal.
+  void quad(index_t a, index_t b, index_t c, index_t d, bool flip) {
+    if (flip) {
+      triangle(a, b, d);
+      triangle(b, c, d);
+    } else {
+      triangle(a, b, c);
+      triangle(a, c, d);
+    }
+  }
+  /// Triangles between two polylines of one plane running the same way
+  /// (parameters t in [0, 1], both from 0 to 1; a single point is a
+  /// polyline of one): advances on the one whose next point comes first.
+  void stitch(const std::vector<index_t>& a, const std::vector<double>& ta, const std::vector<index_t>& b,
+              const std::vector<double>& tb) {
+    std::size_t i = 0, j = 0;
+    while (i + 1 < a.size() || j + 1 < b.size()) {
+      const bool advance_a = j + 1 == b.size() || (i + 1 < a.size() && ta[i + 1] <= tb[j + 1]);
+      if (advance_a) {
+        triangle(a[i], a[i + 1], b[j]);
+        ++i;
+      } else {
+        triangle(a[i], b[j + 1], b[j]);
+        ++j;
+      }
+    }
+  }
+};
+
+/// The point at radius rho and angle 2 pi k / n about the z axis at height
+/// z, exact at quarter turns (y = 0 exactly on theta = 0, pi).
+inline Vec3 polar(double rho, long k, long n, double z) {
+  k = ((k % n) + n) % n;
+  double c = std::cos(2 * kPi * static_cast<double>(k) / static_cast<double>(n));
+  double s = std::sin(2 * kPi * static_cast<double>(k) / static_cast<double>(n));
+  if ((4 * k) % n == 0) {
+    const long q = 4 * k / n;
+    c = q == 0 ? 1 : q == 2 ? -1 : 0;
+    s = q == 1 ? 1 : q == 3 ? -1 : 0;
+  }
+  return Vec3(rho * c, rho * s, z);
+}
+
+/// A tet mesh of the inside of a closed triangulated surface by TetGen,
+/// -pYq: a PLC whose triangles TetGen may not split (no Steiner point on
+/// the surface), radius-edge ratio bounded inside. The surface points come
+/// first, in order.
+inline Status tetrahedralize_surface(const SurfaceBuilder& s, std::vector<Vec3>& points, std::vector<Tet>& tets) {
+  tetgenio in, out;
+  in.firstnumber = 0;
+  in.numberofpoints = static_cast<int>(s.points.size());
+  in.pointlist = new REAL[3 * s.points.size()];
+  for (std::size_t i = 0; i < s.points.size(); ++i)
+    for (int a = 0; a < 3; ++a) in.pointlist[3 * i + a] = s.points[i][a];
+  in.numberoffacets = static_cast<int>(s.triangles.size());
+  in.facetlist = new tetgenio::facet[s.triangles.size()];
+  for (std::size_t f = 0; f < s.triangles.size(); ++f) {
+    tetgenio::facet& F = in.facetlist[f];
+    tetgenio::init(&F);
+    F.numberofpolygons = 1;
+    F.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&F.polygonlist[0]);
+    F.polygonlist[0].numberofvertices = 3;
+    F.polygonlist[0].vertexlist = new int[3];
+    for (int k = 0; k < 3; ++k) F.polygonlist[0].vertexlist[k] = s.triangles[f][k];
+  }
+  char switches[] = "pYq1.4Q";
+  try {
+    tetrahedralize(switches, &in, &out);
+  } catch (...) {
+    return Status::failure("make_cylinder_half_tube: TetGen failed on an object surface");
+  }
+  points.clear();
+  tets.clear();
+  for (int i = 0; i < out.numberofpoints; ++i) {
+    points.emplace_back(out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]);
+    if (i < in.numberofpoints && points.back() != s.points[static_cast<std::size_t>(i)])
+      return Status::failure("make_cylinder_half_tube: TetGen reordered the surface points");
+  }
+  for (int t = 0; t < out.numberoftetrahedra; ++t) {
+    Tet T;
+    for (int k = 0; k < 4; ++k) T[k] = out.tetrahedronlist[out.numberofcorners * t + k];
+    const Vec3 &a = points[T[0]], &b = points[T[1]], &c = points[T[2]], &d = points[T[3]];
+    if ((b - a).dot((c - a).cross(d - a)) < 0) std::swap(T[0], T[1]);
+    tets.push_back(T);
+  }
+  return Status::success();
+}
+
+/// Divisions of a length into segments near `edge` long.
+inline int divisions(double length, double edge) {
+  return std::max(1, static_cast<int>(std::lround(length / edge)));
+}
+
+/// A disk cap at height z (radius r, n segments on its rim): rings of
+/// radius r j / m, about `edge` apart, each cut into segments near `edge`,
+/// stitched ring to ring from the centre.
+inline void disk(SurfaceBuilder& s, double r, int n, double z, double edge) {
+  const int m = divisions(r, edge);
+  std::vector<index_t> inner{s.point(Vec3(0, 0, z))};
+  std::vector<double> t_inner{0.0};
+  for (int j = 1; j <= m; ++j) {
+    const int nj = j == m ? n : std::max(3, static_cast<int>(std::lround(static_cast<double>(n) * j / m)));
+    std::vector<index_t> ring;
+    std::vector<double> t;
+    for (int k = 0; k <= nj; ++k) {
+      ring.push_back(s.point(polar(r * j / m, k, nj, z)));
+      t.push_back(static_cast<double>(k) / nj);
+    }
+    s.stitch(inner, t_inner, ring, t);
+    inner = ring;
+    t_inner = t;
+  }
+}
+
+/// A half annulus at height z: y <= 0, radii r to R, n_in and n_out
+/// segments on its inner and outer half circles.
+inline void half_annulus(SurfaceBuilder& s, double r, double R, int n_in, int n_out, double z, double edge) {
+  const int m = divisions(R - r, edge);
+  std::vector<index_t> inner;
+  std::vector<double> t_inner;
+  for (int j = 0; j <= m; ++j) {
+    const double rho = j == m ? R : r + (R - r) * j / m;
+    const int nj = j == 0 ? n_in : j == m ? n_out : std::max(1, static_cast<int>(std::lround(n_in * rho / r)));
+    std::vector<index_t> ring;
+    std::vector<double> t;
+    for (int k = 0; k <= nj; ++k) {
+      ring.push_back(s.point(polar(rho, nj + k, 2 * nj, z)));  // theta = pi + pi k / nj
+      t.push_back(static_cast<double>(k) / nj);
+    }
+    if (j > 0) s.stitch(inner, t_inner, ring, t);
+    inner = ring;
+    t_inner = t;
+  }
+}
+
+}  // namespace detail
+
+/// The 3.7.3 case as one conformal tet mesh: material 1 the cylinder, 2 the
+/// half tube (each meshed by TetGen -pYq from its exact surface
+/// triangulation, the curved surfaces' points on the analytic cylinders;
+/// the two share no vertex), 0 the space around them in the box (by
+/// mesh_space_around). object_lo/hi: the cylinder's box at step 0. On
+/// failure: an empty mesh and the reason in *status.
+inline MaterialMesh make_cylinder_half_tube(const CylinderHalfTube& g = {}, Status* status = nullptr) {
+  using detail::divisions;
+  using detail::polar;
+  MaterialMesh m;
+  const auto fail = [&](const std::string& why) {
+    if (status) *status = Status::failure(why);
+    return MaterialMesh{};
+  };
+  if (g.n_theta < 4 || g.n_theta % 2 || !(g.r > 0) || !(g.R > g.r) || !(g.Lc > 0) || !(g.Lt > 0) ||
+      !(g.gap > 0) || !(g.margin > 0))
+    return fail("make_cylinder_half_tube: need n_theta even >= 4, 0 < r < R, Lc, Lt, gap, margin > 0");
+  const double h = g.edge();
+  const int n = g.n_theta, nh = g.n_half(), no = g.n_outer_half();
+
+  // The cylinder: side n_theta x n_z quads, two disk caps.
+  detail::SurfaceBuilder cyl;
+  cyl.quantum = 1e-9 * h;
+  const double z0 = -g.Lc - g.gap, z1 = -g.gap;
+  const int nzc = divisions(g.Lc, h);
+  const auto zc = [&](int l) { return l == nzc ? z1 : z0 + g.Lc * l / nzc; };
+  for (int l = 0; l < nzc; ++l)
+    for (int k = 0; k < n; ++k)
+      cyl.quad(cyl.point(polar(g.r, k, n, zc(l))), cyl.point(polar(g.r, k + 1, n, zc(l))),
+               cyl.point(polar(g.r, k + 1, n, zc(l + 1))), cyl.point(polar(g.r, k, n, zc(l + 1))), (k + l) % 2);
+  detail::disk(cyl, g.r, n, z0, h);
+  detail::disk(cyl, g.r, n, z1, h);
+
+  // The half tube (y <= 0): inner and outer half cylinders, the two flat
+  // cut faces at y = 0, the two half-annulus ends.
+  detail::SurfaceBuilder tube;
+  tube.quantum = cyl.quantum;
+  const int nzt = divisions(g.Lt, h);
+  const auto zt = [&](int l) { return l == nzt ? g.Lt : g.Lt * l / nzt; };
+  for (int l = 0; l < nzt; ++l) {
+    for (int k = 0; k < nh; ++k)  // theta = pi + pi k / nh: the cylinder's angles n_half + k
+      tube.quad(tube.point(polar(g.r, nh + k, n, zt(l))), tube.point(polar(g.r, nh + k + 1, n, zt(l))),
+                tube.point(polar(g.r, nh + k + 1, n, zt(l + 1))), tube.point(polar(g.r, nh + k, n, zt(l + 1))),
+                (k + l) % 2);
+    for (int k = 0; k < no; ++k)
+      tube.quad(tube.point(polar(g.R, no + k, 2 * no, zt(l))), tube.point(polar(g.R, no + k + 1, 2 * no, zt(l))),
+                tube.point(polar(g.R, no + k + 1, 2 * no, zt(l + 1))),
+                tube.point(polar(g.R, no + k, 2 * no, zt(l + 1))), (k + l) % 2);
+    const int mr = divisions(g.R - g.r, h);
+    for (int side = 0; side < 2; ++side)  // x < 0 (theta = pi), x > 0 (theta = 2 pi)
+      for (int j = 0; j < mr; ++j) {
+        const double sign = side ? 1 : -1;
+        const double a = sign * (g.r + (g.R - g.r) * j / mr), b = sign * (j + 1 == mr ? g.R : g.r + (g.R - g.r) * (j + 1) / mr);
+        tube.quad(tube.point(Vec3(a, 0, zt(l))), tube.point(Vec3(b, 0, zt(l))), tube.point(Vec3(b, 0, zt(l + 1))),
+                  tube.point(Vec3(a, 0, zt(l + 1))), (j + l) % 2);
+      }
+  }
+  detail::half_annulus(tube, g.r, g.R, nh, no, 0.0, h);
+  detail::half_annulus(tube, g.r, g.R, nh, no, g.Lt, h);
+
+  std::vector<Vec3> cp, tp;
+  std::vector<Tet> ct, tt;
+  Status s = detail::tetrahedralize_surface(cyl, cp, ct);
+  if (!s) return fail(s.message + " (cylinder)");
+  s = detail::tetrahedralize_surface(tube, tp, tt);
+  if (!s) return fail(s.message + " (half tube)");
+  std::vector<Vec3> points = cp;
+  points.insert(points.end(), tp.begin(), tp.end());
+  std::vector<Tet> tets = ct;
+  std::vector<int> material(ct.size(), 1);
+  const index_t offset = static_cast<index_t>(cp.size());
+  for (Tet t : tt) {
+    for (index_t& v : t) v += offset;
+    tets.push_back(t);
+    material.push_back(2);
+  }
+  const double w = g.R + g.margin;
+  const Vec3 lo(-w, -w, z0 - g.margin), hi(w, w, std::max(g.Lt, z1 + g.planned_travel()) + g.margin);
+  s = mesh_space_around(points, tets, material, lo, hi, g.space_edge, m.points, m.tets, m.material);
+  if (!s) return fail(s.message);
+  m.object_lo = Vec3(-g.r, -g.r, z0);
+  m.object_hi = Vec3(g.r, g.r, z1);
+  if (status) *status = Status::success();
   return m;
 }
 

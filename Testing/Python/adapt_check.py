@@ -12,6 +12,8 @@ a step that FEMorph Adapt wrote from it.
         [--translation X Y Z] [--axis X Y Z] [--center X Y Z] [--angle DEG]
     /usr/bin/python3 Testing/Python/adapt_check.py INPUT.vtu STEP.vtu --step N \\
         --case Data/adapt/block_in_box.json          # thesis 3.7.2's motion from the JSON
+    /usr/bin/python3 Testing/Python/adapt_check.py INPUT.vtu STEP.vtu --step N \\
+        --case Data/adapt/cylinder_half_tube.json    # 3.7.3: motion and contact (f-h)
     /usr/bin/python3 Testing/Python/adapt_check.py INPUT.vtu STEP.vtu --pose m00 m01 ... m33
 
 The pose of step n is x_n = c + n t + R(axis, n angle) (x_0 - c) (t, angle per
@@ -41,8 +43,19 @@ when one fails:
 (e) counts: vertices and tets of the step against the input (drift in
     percent; a failure only beyond --max-drift).
 
+With --contact A B (or a --case whose .json has contact_materials, as
+Data/adapt/cylinder_half_tube.json, thesis 3.7.3), numpy only:
+
+(f) contact conformity: no face in more than two tets, every face of two
+    objects' tets in exactly one tet of each, and no object boundary face
+    lying on another object's boundary face without being that face;
+(g) no degenerate tet: min V / (mean edge)^3 above 1e-6 (regular: 0.118);
+(h) contact area: the faces shared by A and B, their area within 1 % of
+    --contact-area (default: the .json's contact_area.discrete[step]).
+
 As a module: read_mesh, motion_pose, matrix_pose, stretch and check (all
-of them; returns ok, rows, details).
+of them; returns ok, rows, details); contact_faces, check_contact_conformity,
+check_degenerate, check_contact_area and check_contact (f-h).
 """
 
 import argparse
@@ -421,6 +434,151 @@ def check(input_mesh, step_mesh, R=np.eye(3), t=np.zeros(3), moving_id=1,
     return all(r[2] for r in rows), rows, details
 
 
+# ----------------------------------------------------------------------------
+# Contact (thesis 3.7.3): numpy only
+# ----------------------------------------------------------------------------
+
+CONTACT_REL_TOL = 0.01     # 3.7.3: the contact area within 1 % of the exact one
+DEGENERATE_FLOOR = 1e-6    # min |V| / (mean edge)^3 of a tet (regular tet: 0.118)
+
+
+def first_slot(inverse, n_faces):
+    """Per distinct face of face_table, the first of its 4 m slots."""
+    first = np.full(n_faces, -1, dtype=np.int64)
+    slots = np.arange(len(inverse))
+    first[inverse[::-1]] = slots[::-1]
+    return first
+
+
+def contact_faces(points, tets, material, a, b):
+    """The faces shared by a tet of object a and a tet of object b (thesis
+    3.7.3's contact triangles, as vertex triples) and their total area."""
+    points = np.asarray(points, dtype=np.float64)
+    tets = np.asarray(tets, dtype=np.int64).reshape(-1, 4)
+    material = np.asarray(material).reshape(-1)
+    if not len(tets):
+        return np.zeros((0, 3), dtype=np.int64), 0.0
+    tris, inverse, counts, _ = face_table(tets, len(points))
+    mat = np.repeat(material, 4)
+    in_a = np.bincount(inverse, weights=(mat == a).astype(float), minlength=len(counts))
+    in_b = np.bincount(inverse, weights=(mat == b).astype(float), minlength=len(counts))
+    shared = np.nonzero((in_a > 0) & (in_b > 0))[0]
+    faces = tris[first_slot(inverse, len(counts))[shared]]
+    return faces, float(triangle_areas(points, faces).sum())
+
+
+def check_contact_conformity(points, tets, material, tol=None):
+    """3.7.3's "every contact triangle shared by exactly the two object
+    meshes": every face in at most two tets; every face of two objects' tets
+    in exactly one tet of each; and no boundary face of an object lying on
+    another object's boundary face (the same corner positions within `tol`,
+    default 1e-9 x the bounding-box diagonal) without being that face (a
+    non-conformal contact: the objects touch but do not share the
+    triangle). Returns (ok, text, details)."""
+    points = np.asarray(points, dtype=np.float64)
+    tets = np.asarray(tets, dtype=np.int64).reshape(-1, 4)
+    material = np.asarray(material).reshape(-1)
+    if tol is None:
+        tol = REL_TOL * float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
+    tris, inverse, counts, _ = face_table(tets, len(points))
+    over = int(np.count_nonzero(counts > 2))
+    mat = np.repeat(material, 4)
+    objects = [int(m) for m in np.unique(material) if m > 0]
+    uses = {m: np.bincount(inverse, weights=(mat == m).astype(float), minlength=len(counts))
+            for m in objects}
+    n_obj = sum((uses[m] > 0).astype(int) for m in objects) if objects else np.zeros(len(counts))
+    between = np.nonzero(n_obj >= 2)[0]
+    bad_between = 0
+    if len(between):
+        ok_between = counts[between] == 2
+        for m in objects:
+            ok_between &= (uses[m][between] == 0) | (uses[m][between] == 1)
+        bad_between = int(np.count_nonzero(~ok_between))
+    # Geometric coincidence of object boundary faces: vertices snapped to a
+    # grid of `tol` (exactly coincident copies land on one key).
+    first = first_slot(inverse, len(counts))
+    q = np.round(points / max(tol, 1e-300)).astype(np.int64)
+    _, geo = np.unique(q, axis=0, return_inverse=True)
+    geo = geo.reshape(-1)
+    keys, face_ids, owners = [], [], []
+    for m in objects:
+        fb = np.nonzero(uses[m] == 1)[0]          # m's boundary faces
+        keys.append(np.sort(geo[tris[first[fb]]], axis=1))
+        face_ids.append(fb)
+        owners.append(np.full(len(fb), m))
+    coincident = 0
+    if keys and sum(len(k) for k in keys):
+        keys, face_ids, owners = np.vstack(keys), np.concatenate(face_ids), np.concatenate(owners)
+        _, g = np.unique(keys, axis=0, return_inverse=True)
+        order = np.argsort(g.reshape(-1), kind="stable")
+        gs = g.reshape(-1)[order]
+        starts = np.flatnonzero(np.r_[True, gs[1:] != gs[:-1]])
+        own, fid = owners[order], face_ids[order]
+        # One place, faces of different objects, not one face.
+        mixed_owner = np.minimum.reduceat(own, starts) != np.maximum.reduceat(own, starts)
+        mixed_face = np.minimum.reduceat(fid, starts) != np.maximum.reduceat(fid, starts)
+        coincident = int(np.count_nonzero(mixed_owner & mixed_face))
+    ok = over == 0 and bad_between == 0 and coincident == 0
+    details = {"faces_in_more_than_two": over, "object_faces_not_one_each": bad_between,
+               "object_faces_between": int(len(between)), "coincident_not_shared": coincident}
+    text = (f"{over} faces in > 2 tets, {len(between)} faces between two objects, "
+            f"{bad_between} of them not in exactly one tet of each, {coincident} object "
+            f"boundary faces on another object's without sharing it")
+    return ok, text, details
+
+
+def check_degenerate(points, tets, floor=DEGENERATE_FLOOR):
+    """No inverted or degenerate element: every tet's signed volume over its
+    mean edge length cubed above `floor` (a regular tet has 0.118). Returns
+    (ok, text, details) with the minimum and the worst tet."""
+    points = np.asarray(points, dtype=np.float64)
+    tets = np.asarray(tets, dtype=np.int64).reshape(-1, 4)
+    x = points[tets]
+    vol = np.einsum("ij,ij->i", x[:, 1] - x[:, 0], np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 0])) / 6.0
+    pairs = np.array([(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)])
+    edges = np.linalg.norm(x[:, pairs[:, 1]] - x[:, pairs[:, 0]], axis=2).mean(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(edges > 0, vol / edges ** 3, -np.inf)
+    worst = int(np.argmin(ratio)) if len(ratio) else -1
+    low = int(np.count_nonzero(ratio <= floor))
+    m = float(ratio[worst]) if len(ratio) else float("inf")
+    ok = low == 0
+    return ok, (f"min V / (mean edge)^3 {m:.3e} (tet {worst}), {low} of {len(ratio)} tets at or "
+                f"below {floor:g}"), {"degenerate_ratio_min": m, "degenerate_tets": low,
+                                      "degenerate_worst_tet": worst}
+
+
+def check_contact_area(area, expected, rel_tol=CONTACT_REL_TOL, abs_tol=0.0):
+    """|area - expected| <= rel_tol x expected (+ abs_tol): 3.7.3's "contact
+    area within 1 % of the exact contact area of the step" (expected: the
+    area of the step's overlap, e.g. the .json's contact_area.discrete[n]).
+    Returns (ok, text, details)."""
+    diff = abs(area - expected)
+    ok = bool(diff <= rel_tol * abs(expected) + abs_tol)
+    r = diff / abs(expected) if expected else (0.0 if diff == 0 else float("inf"))
+    return ok, (f"area {area:.6g}, expected {expected:.6g}, rel. diff {r:.2e} "
+                f"(limit {rel_tol:g})"), {"contact_area": area, "expected_contact_area": expected,
+                                          "contact_area_rel_diff": r}
+
+
+def check_contact(mesh, a, b, expected_area, rel_tol=CONTACT_REL_TOL, floor=DEGENERATE_FLOOR):
+    """The contact checks of one step (thesis 3.7.3) between objects a and b
+    of a Mesh: (f) conformity of the contact, (g) no degenerate element, (h)
+    contact area. Returns (ok, rows, details) as check()."""
+    rows, details = [], {}
+    faces, area = contact_faces(mesh.points, mesh.tets, mesh.material, a, b)
+    ok_f, text, d = check_contact_conformity(mesh.points, mesh.tets, mesh.material)
+    details.update(d, contact_faces=int(len(faces)))
+    rows.append(("f", "contact conformity", ok_f, f"{len(faces)} contact faces of {a} and {b}, " + text))
+    ok_g, text, d = check_degenerate(mesh.points, mesh.tets, floor)
+    details.update(d)
+    rows.append(("g", "no degenerate tet", ok_g, text))
+    ok_h, text, d = check_contact_area(area, expected_area, rel_tol)
+    details.update(d)
+    rows.append(("h", "contact area", ok_h, text))
+    return all(r[2] for r in rows), rows, details
+
+
 def print_rows(rows, out=sys.stdout):
     w = max(len(r[1]) for r in rows)
     for key, name, ok, text in rows:
@@ -452,15 +610,22 @@ def main():
                              "input's and its vertices inside")
     parser.add_argument("--max-drift", type=float, default=None,
                         help="(e) fails when the vertex count drifts by more (percent)")
+    parser.add_argument("--contact", type=int, nargs=2, default=None, metavar=("A", "B"),
+                        help="(f)-(h): the contact checks between objects A and B (default "
+                             "with --case: its contact_materials)")
+    parser.add_argument("--contact-area", type=float, default=None,
+                        help="(h) the expected contact area of the step (default with --case: "
+                             "its contact_area.discrete[step])")
     args = parser.parse_args()
 
     motion = {"translation_per_step": [0, 0, 0], "rotation_axis": [1, 0, 0],
               "rotation_center": [0, 0, 0], "rotation_degrees_per_step": 0.0}
     moving_id = 1
+    case = {}
     if args.case:
         with open(args.case) as f:
             case = json.load(f)
-        motion.update(case.get("motion_3_7_2", {}))
+        motion.update(case.get("motion_3_7_2", case.get("motion_3_7_3", {})))
         moving_id = case.get("object", {}).get("material_id", 1)
     for name, value in (("translation_per_step", args.translation),
                         ("rotation_axis", args.axis), ("rotation_center", args.center),
@@ -476,6 +641,17 @@ def main():
                            motion["rotation_center"], motion["rotation_degrees_per_step"])
     ok, rows, _ = check(args.input, args.step, R, t, moving_id, args.object_remeshed,
                         args.max_drift)
+    contact = args.contact or case.get("contact_materials")
+    if contact:
+        expected = args.contact_area
+        if expected is None:
+            areas = case.get("contact_area", {}).get("discrete", [])
+            if args.n >= len(areas):
+                parser.error("no expected contact area for this step: give --contact-area")
+            expected = areas[args.n]
+        ok_c, rows_c, _ = check_contact(read_mesh(args.step), contact[0], contact[1], expected)
+        ok = ok and ok_c
+        rows += rows_c
     print(f"{args.step} (step {args.n}) against {args.input}")
     print_rows(rows)
     print("PASSED" if ok else "FAILED")

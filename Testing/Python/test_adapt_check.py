@@ -7,7 +7,11 @@ and by --pose), and fail each corrupted copy in the check that should catch
 it: one tet inverted, one tet removed (a hole), one tet detached (a crack),
 an object vertex off its rigid position, an outer boundary vertex moved off
 the box, the object detached from space (non-conformal interface), the
-wrong step number.
+wrong step number. And the contact checks (thesis 3.7.3, (f)-(h)): two
+objects sharing a face pass; touching along a face with a layer of
+zero-volume space tets in between (a non-conformal contact), or with a face
+in three tets, they fail; the committed 3.7.3 case
+Data/adapt/cylinder_half_tube.vtu passes at step 0 (contact area 0).
 
     /usr/bin/python3 Testing/Python/test_adapt_check.py [-v]
 
@@ -15,6 +19,7 @@ Exit 0 passed, 1 failed.
 """
 
 import importlib.util
+import json
 import os
 import subprocess
 import sys
@@ -252,6 +257,117 @@ class AdaptCheckTest(unittest.TestCase):
         near[np.unique(otris)] = True
         cand = np.nonzero((m.material == 0) & ~near[m.tets].any(axis=1))[0]
         return int(cand[0])
+
+
+# -- contact (thesis 3.7.3) ---------------------------------------------------
+
+CASE_373 = os.path.join(DATA, "adapt", "cylinder_half_tube.vtu")
+
+
+def two_objects(layer):
+    """Tet A (material 1) and tet B (material 2) on the two sides of the
+    triangle p1 p2 p3. layer False: they share it (a conformal contact);
+    True: B has its own copies q1 q2 q3 of the triangle's corners and three
+    zero-volume space tets fill the flat prism between the two triangles
+    (touching, not sharing: a non-conformal contact)."""
+    p = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.2, 0.3, 1.0],
+                  [0.3, 0.2, -1.0]])
+    a = [0, 1, 2, 3]                       # above z = 0 ... (p0 p1 p2) is the contact
+    if not layer:
+        b = [0, 2, 1, 4]
+        tets, material = [a, b], [1, 2]
+    else:
+        p = np.vstack([p, p[:3]])          # q0 q1 q2 = 5 6 7
+        b = [5, 7, 6, 4]
+        flat = [[0, 1, 2, 5], [1, 2, 5, 6], [2, 5, 6, 7]]
+        tets, material = [a, b] + flat, [1, 2, 0, 0, 0]
+    m = ac.Mesh(p, np.array(tets), np.array(material))
+    assert ac.signed_volumes(m.points, m.tets[:2]).min() > 0
+    return m
+
+
+class ContactCheckTest(unittest.TestCase):
+    TRIANGLE = 0.5                          # area of (0,0,0) (1,0,0) (0,1,0)
+
+    def test_conformal_contact_passes(self):
+        m = two_objects(layer=False)
+        faces, area = ac.contact_faces(m.points, m.tets, m.material, 1, 2)
+        self.assertEqual(sorted(faces[0].tolist()), [0, 1, 2])
+        self.assertAlmostEqual(area, self.TRIANGLE, places=15)
+        ok, rows, d = ac.check_contact(m, 1, 2, self.TRIANGLE)
+        self.assertTrue(ok, rows)
+        self.assertEqual(d["contact_faces"], 1)
+        # The area check fails 2 % off, passes 0.5 % off.
+        self.assertFalse(ac.check_contact_area(area, 1.02 * self.TRIANGLE)[0])
+        self.assertTrue(ac.check_contact_area(area, 1.005 * self.TRIANGLE)[0])
+        self.assertFalse(ac.check_contact_area(area, 0.0)[0])
+
+    def test_nonconformal_contact_fails(self):
+        m = two_objects(layer=True)
+        self.assertTrue(np.all(np.abs(ac.signed_volumes(m.points, m.tets[2:])) == 0))
+        faces, area = ac.contact_faces(m.points, m.tets, m.material, 1, 2)
+        self.assertEqual(len(faces), 0)
+        ok, rows, d = ac.check_contact(m, 1, 2, self.TRIANGLE)
+        self.assertFalse(ok)
+        self.assertEqual(failed(rows), {"f", "g", "h"}, rows)
+        self.assertEqual(d["coincident_not_shared"], 1)
+        self.assertEqual(d["degenerate_ratio_min"], 0.0)
+        self.assertEqual(d["degenerate_tets"], 3)
+        self.assertEqual(d["contact_area"], 0.0)
+
+    def test_face_in_three_tets_fails(self):
+        m = two_objects(layer=False)
+        m.points = np.vstack([m.points, [[0.1, 0.1, -2.0]]])
+        m.tets = np.vstack([m.tets, [0, 2, 1, 5]])       # a second B tet on the contact face
+        m.material = np.append(m.material, 2)
+        ok, text, d = ac.check_contact_conformity(m.points, m.tets, m.material)
+        self.assertFalse(ok, text)
+        self.assertEqual(d["faces_in_more_than_two"], 1)
+        self.assertEqual(d["object_faces_not_one_each"], 1)
+
+    def test_inverted_tet_is_degenerate(self):
+        m = two_objects(layer=False)
+        m.tets[1] = m.tets[1][[1, 0, 2, 3]]
+        ok, text, d = ac.check_degenerate(m.points, m.tets)
+        self.assertFalse(ok, text)
+        self.assertLess(d["degenerate_ratio_min"], 0)
+        self.assertEqual(d["degenerate_worst_tet"], 1)
+
+    def test_cylinder_half_tube_step_0(self):
+        if not os.path.exists(CASE_373):
+            self.skipTest(f"{CASE_373} not found")
+        with open(os.path.splitext(CASE_373)[0] + ".json") as f:
+            info = json.load(f)
+        m = ac.read_mesh(CASE_373)
+        self.assertEqual(sorted(np.unique(m.material).tolist()), [0, 1, 2])
+        self.assertEqual(info["contact_materials"], [1, 2])
+        self.assertEqual(info["contact_area"]["discrete"][0], 0.0)
+        # Both objects' volumes are the polygon prisms of the .json.
+        vol = ac.signed_volumes(m.points, m.tets)
+        for key, mat in (("cylinder", 1), ("half_tube", 2)):
+            self.assertAlmostEqual(vol[m.material == mat].sum() / info[key]["volume"], 1.0, places=9)
+        # No shared vertex between the objects at step 0, no contact face.
+        shared = np.intersect1d(m.tets[m.material == 1], m.tets[m.material == 2])
+        self.assertEqual(len(shared), 0)
+        ok, rows, d = ac.check_contact(m, 1, 2, info["contact_area"]["discrete"][0])
+        self.assertTrue(ok, rows)
+        self.assertEqual(d["contact_faces"], 0)
+        self.assertGreater(d["degenerate_ratio_min"], ac.DEGENERATE_FLOOR)
+        # The full step check against itself, and a wrong expected area
+        # (step 3's) caught.
+        ok, rows, _ = ac.check(m, m, moving_id=1)
+        self.assertTrue(ok, rows)
+        ok, rows, _ = ac.check_contact(m, 1, 2, info["contact_area"]["discrete"][3])
+        self.assertEqual(failed(rows), {"h"}, rows)
+        # The command line reads the contact from the .json.
+        script = os.path.join(here, "adapt_check.py")
+        r = subprocess.run([sys.executable, script, CASE_373, CASE_373, "--case",
+                            os.path.splitext(CASE_373)[0] + ".json"], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertIn("(h) contact area", r.stdout)
+        r = subprocess.run([sys.executable, script, CASE_373, CASE_373, "--contact", "1", "2",
+                            "--contact-area", "1.0"], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
 
 
 if __name__ == "__main__":

@@ -19,7 +19,9 @@
 namespace femorph {
 namespace {
 
+using testing::CylinderHalfTube;
 using testing::make_block_in_box;
+using testing::make_cylinder_half_tube;
 using testing::MaterialMesh;
 
 double min_stretch(const std::vector<Vec3>& p, const std::vector<Tet>& tets) {
@@ -367,6 +369,179 @@ TEST(AdaptSession, AStepIntoAnotherObjectIsRefusedNamingIt) {
   slow.translation_per_step = Vec3(0.25, 0, 0);
   ASSERT_TRUE(s.init(in.points, in.tets, in.material, slow, {}).ok);
   for (int n = 1; n <= 3; ++n) EXPECT_TRUE(s.advance().ok) << "step " << n;
+}
+
+/// The boundary faces of the tets of one material (faces of exactly one of
+/// them), as vertex triples.
+std::vector<std::array<index_t, 3>> material_boundary(const MaterialMesh& m, int material) {
+  std::map<std::array<index_t, 3>, int> count;
+  for (std::size_t t = 0; t < m.tets.size(); ++t) {
+    if (m.material[t] != material) continue;
+    for (const auto& f : kTetFace) {
+      std::array<index_t, 3> k{{m.tets[t][f[0]], m.tets[t][f[1]], m.tets[t][f[2]]}};
+      std::sort(k.begin(), k.end());
+      ++count[k];
+    }
+  }
+  std::vector<std::array<index_t, 3>> out;
+  for (const auto& [k, n] : count)
+    if (n == 1) out.push_back(k);
+  return out;
+}
+
+double triangle_area(const std::vector<Vec3>& p, const std::array<index_t, 3>& f) {
+  return 0.5 * (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]).norm();
+}
+
+/// Thesis 3.7.3's input: the cylinder and the half tube meshed by TetGen
+/// from exact surfaces, the space around them; checked as a whole.
+TEST(CylinderHalfTube, IsValidWithExactPolygonVolumesAndSurfaces) {
+  const CylinderHalfTube g;
+  Status status;
+  const MaterialMesh m = make_cylinder_half_tube(g, &status);
+  ASSERT_TRUE(status.ok) << status.message;
+  const ValidityReport v = check_validity(m.points, m.tets);
+  ASSERT_TRUE(v.ok()) << v.summary();  // every tet positive, conformal, manifold
+  // Volumes by material: the polygon prisms, and the box for all.
+  double volume[3] = {0, 0, 0};
+  std::size_t count[3] = {0, 0, 0};
+  Vec3 lo = m.points[0], hi = lo;
+  for (const Vec3& p : m.points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  for (std::size_t t = 0; t < m.tets.size(); ++t) {
+    ASSERT_GE(m.material[t], 0);
+    ASSERT_LE(m.material[t], 2);
+    const Tet& T = m.tets[t];
+    const Vec3 &a = m.points[T[0]], &b = m.points[T[1]], &c = m.points[T[2]], &d = m.points[T[3]];
+    volume[m.material[t]] += (b - a).dot((c - a).cross(d - a)) / 6;
+    ++count[m.material[t]];
+  }
+  EXPECT_NEAR(volume[1], g.cylinder_volume(), 1e-9 * g.cylinder_volume());
+  EXPECT_NEAR(volume[2], g.half_tube_volume(), 1e-9 * g.half_tube_volume());
+  const double box = (hi - lo).prod();
+  EXPECT_NEAR(volume[0] + volume[1] + volume[2], box, 1e-9 * box);
+  // The polygon volumes against the analytic ones (a coarse polygon).
+  EXPECT_NEAR(g.cylinder_volume(), kPi * g.r * g.r * g.Lc, 0.05 * g.cylinder_volume());
+  EXPECT_NEAR(g.half_tube_volume(), 0.5 * kPi * (g.R * g.R - g.r * g.r) * g.Lt, 0.05 * g.half_tube_volume());
+
+  // The cylinder's surface: off its caps, every vertex at distance r from
+  // the axis; among them the points at theta = 0 and pi (y = 0 exactly).
+  const double z0 = -g.Lc - g.gap, z1 = -g.gap, tol = 1e-12;
+  std::vector<char> on_cylinder(m.points.size(), 0), on_tube(m.points.size(), 0);
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    for (const index_t x : m.tets[t]) {
+      if (m.material[t] == 1) on_cylinder[x] = 1;
+      if (m.material[t] == 2) on_tube[x] = 1;
+    }
+  std::map<std::pair<double, double>, int> cylinder_xy;  // side vertices by (x, y)
+  std::size_t side = 0, shared = 0;
+  for (const auto& f : material_boundary(m, 1))
+    for (const index_t x : f) {
+      const Vec3& p = m.points[x];
+      if (std::abs(p.z() - z0) < tol || std::abs(p.z() - z1) < tol) continue;
+      ++side;
+      EXPECT_NEAR(std::hypot(p.x(), p.y()), g.r, tol) << "cylinder side vertex " << x;
+      cylinder_xy[{p.x(), p.y()}] = 1;
+    }
+  EXPECT_EQ(cylinder_xy.size(), static_cast<std::size_t>(g.n_theta)) << "the side is n_theta lines of points";
+  EXPECT_TRUE(cylinder_xy.count({g.r, 0.0}) && cylinder_xy.count({-g.r, 0.0})) << "theta = 0, pi not on the polygon";
+  // The half tube: every vertex off y = 0 and its ends on radius r or R; the
+  // inner ones at the cylinder's lower polygon corners (bit for bit).
+  double inner_area = 0;
+  for (const auto& f : material_boundary(m, 2)) {
+    bool inner = true;
+    for (const index_t x : f) {
+      const Vec3& p = m.points[x];
+      const double rho = std::hypot(p.x(), p.y());
+      inner = inner && std::abs(rho - g.r) < tol;
+      if (p.y() == 0 || std::abs(p.z()) < tol || std::abs(p.z() - g.Lt) < tol) continue;
+      EXPECT_TRUE(std::abs(rho - g.r) < tol || std::abs(rho - g.R) < tol) << "half tube vertex " << x << " at " << rho;
+      EXPECT_LT(p.y(), 0);
+      if (std::abs(rho - g.r) < tol) {
+        EXPECT_TRUE(cylinder_xy.count({p.x(), p.y()})) << "inner tube vertex " << x << " off the cylinder's polygon";
+      }
+    }
+    if (inner) inner_area += triangle_area(m.points, f);
+  }
+  // The tube's inner surface is the discrete contact surface: n_half chords
+  // x Lt (what cylinder_half_tube_contact_area's `discrete` counts).
+  const double chord = 2 * g.r * std::sin(kPi / (2 * g.n_half()));
+  EXPECT_NEAR(inner_area, g.n_half() * chord * g.Lt, 1e-12 * inner_area);
+  for (std::size_t x = 0; x < m.points.size(); ++x) shared += on_cylinder[x] && on_tube[x];
+  EXPECT_EQ(shared, 0u) << "the cylinder and the half tube share vertices at step 0";
+  // The objects inside the box, off its faces.
+  for (std::size_t x = 0; x < m.points.size(); ++x)
+    if (on_cylinder[x] || on_tube[x]) {
+      EXPECT_TRUE((m.points[x].array() > lo.array()).all() && (m.points[x].array() < hi.array()).all());
+    }
+  EXPECT_GT(count[0], count[1] + count[2]);
+  EXPECT_GT(side, 0u);
+  std::printf("3.7.3 case (default size, n_theta %d): %zu tets (space %zu, cylinder %zu, half tube %zu), %zu points, "
+              "min stretch %.3f\n",
+              g.n_theta, m.tets.size(), count[0], count[1], count[2], m.points.size(), min_stretch(m.points, m.tets));
+  // Deterministic: the same mesh again.
+  const MaterialMesh again = make_cylinder_half_tube(g);
+  EXPECT_TRUE(again.points == m.points && again.tets == m.tets && again.material == m.material);
+}
+
+TEST(CylinderHalfTube, BenchmarkSizeIsTheThesis) {
+  // 3.7.3's input has 160,791 tets and 31,530 vertices.
+  const CylinderHalfTube g = CylinderHalfTube::benchmark();
+  Status status;
+  const MaterialMesh m = make_cylinder_half_tube(g, &status);
+  ASSERT_TRUE(status.ok) << status.message;
+  EXPECT_GT(m.tets.size(), 120000u);
+  EXPECT_LT(m.tets.size(), 200000u);
+  double volume[3] = {0, 0, 0};
+  for (std::size_t t = 0; t < m.tets.size(); ++t) {
+    const Tet& T = m.tets[t];
+    const Vec3 &a = m.points[T[0]], &b = m.points[T[1]], &c = m.points[T[2]], &d = m.points[T[3]];
+    volume[m.material[t]] += (b - a).dot((c - a).cross(d - a)) / 6;
+  }
+  EXPECT_NEAR(volume[1], g.cylinder_volume(), 1e-9 * g.cylinder_volume());
+  EXPECT_NEAR(volume[2], g.half_tube_volume(), 1e-9 * g.half_tube_volume());
+  std::printf("3.7.3 benchmark case (n_theta %d, edge %.3f): %zu tets, %zu points, min stretch %.3f\n", g.n_theta,
+              g.edge(), m.tets.size(), m.points.size(), min_stretch(m.points, m.tets));
+}
+
+TEST(CylinderHalfTube, ContactAreaOfAStep) {
+  CylinderHalfTube g;
+  g.Lc = 3;
+  g.Lt = 4;
+  g.gap = 0.5;
+  using testing::cylinder_half_tube_contact_area;
+  EXPECT_EQ(cylinder_half_tube_contact_area(g, 0).overlap, 0);    // step 0: no contact
+  EXPECT_EQ(cylinder_half_tube_contact_area(g, 0.5).overlap, 0);  // touching the tube's end
+  EXPECT_DOUBLE_EQ(cylinder_half_tube_contact_area(g, 1).overlap, 0.5);
+  EXPECT_DOUBLE_EQ(cylinder_half_tube_contact_area(g, 3).overlap, 2.5);
+  EXPECT_DOUBLE_EQ(cylinder_half_tube_contact_area(g, 4).overlap, 3);    // all the cylinder inside
+  EXPECT_DOUBLE_EQ(cylinder_half_tube_contact_area(g, 6.5).overlap, 1);  // coming out at z = Lt
+  EXPECT_EQ(cylinder_half_tube_contact_area(g, 20).overlap, 0);
+  const auto a = cylinder_half_tube_contact_area(g, 3);
+  EXPECT_DOUBLE_EQ(a.exact, kPi * g.r * 2.5);
+  // The polygon against the circle: n chords 2 r sin(pi / 2n) over pi r.
+  const double x = kPi / (2 * g.n_half());
+  EXPECT_NEAR(a.discrete / a.exact, std::sin(x) / x, 1e-14);
+  EXPECT_LT(a.discrete, a.exact);
+  std::printf("contact at s = 3 (overlap 2.5, n_theta %d): exact %.6f, discrete %.6f (%.2f%% below)\n", g.n_theta,
+              a.exact, a.discrete, 100 * (1 - a.discrete / a.exact));
+}
+
+TEST(CylinderHalfTube, BadParametersAreRefused) {
+  CylinderHalfTube g;
+  g.n_theta = 13;  // theta = pi would not be a segment boundary
+  Status status;
+  EXPECT_TRUE(make_cylinder_half_tube(g, &status).tets.empty());
+  EXPECT_FALSE(status.ok);
+  g = CylinderHalfTube();
+  g.R = g.r;  // no tube wall
+  EXPECT_TRUE(make_cylinder_half_tube(g, &status).tets.empty());
+  EXPECT_FALSE(status.ok);
+  g = CylinderHalfTube();
+  g.gap = 0;  // contact at step 0
+  EXPECT_FALSE((make_cylinder_half_tube(g, &status), status.ok));
 }
 
 /// A real part made by someone else (../shared/realparts) as the moving
