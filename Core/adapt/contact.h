@@ -6,6 +6,8 @@
 #include "adapt/adapt.h"
 #include "geometry/surface_chart.h"
 
+#include <map>
+
 namespace femorph {
 
 using Tri = std::array<index_t, 3>;
@@ -35,9 +37,10 @@ struct ObjectSurfaceInfo {
 Status segment_object(const std::vector<Vec3>& points, const ObjectBoundary& boundary, ObjectSurfaceInfo& out);
 
 /// The region of each face: the analytic region whose surface passes
-/// within `tolerance` of the face's three vertices and centroid, with the
-/// face's normal within 30 degrees of the surface normal (the nearest when
-/// several fit); -1 when none does. `point(v)` gives vertex v's position in
+/// within `tolerance` of the face's three vertices, with the face's normal
+/// within 30 degrees of the surface normal at its centroid (the nearest when
+/// several fit; the centroid of a chord face is off a curved surface);
+/// -1 when none does. `point(v)` gives vertex v's position in
 /// the frame of `regions`.
 std::vector<index_t> classify_object_faces(const std::function<Vec3(index_t)>& point, const std::vector<Tri>& faces,
                                            const std::vector<SurfacePrimitive>& regions, double tolerance);
@@ -70,6 +73,45 @@ std::vector<ContactRegion> detect_contacts(const std::function<Vec3(index_t)>& m
                                            const std::vector<index_t>& other_face_region,
                                            const std::vector<SurfacePrimitive>& other_regions, double tolerance,
                                            double scale);
+
+/// A face with the material on each side: `front` on the side its normal
+/// (right hand v0, v1, v2) points to, `back` on the other.
+struct SidedFace {
+  Tri v;
+  int front = 0;
+  int back = 0;
+};
+
+/// The contact surfaces of the moving object and of the other object inside
+/// the removed zone, merged into one surface (thesis 3.5.4, done by
+/// re-triangulation in the surface's chart instead of vertex pairing).
+struct MergedContact {
+  std::vector<Vec3> new_points;  ///< crossings of the two boundary lines (3.5.4.2), ids first_new_id + k
+  std::vector<SidedFace> faces;  ///< the merged surface, materials on both sides
+  /// Boundary edges of the two patches that received points, keyed by
+  /// (min id, max id): the points in order from the min id to the max id.
+  std::map<std::pair<index_t, index_t>, std::vector<index_t>> split_edges;
+  double contact_area = 0;       ///< area of the faces between the two objects
+  /// Moving-patch vertices at the position of an other-patch vertex (to
+  /// 1e-9 of the spacing): the other's vertex replaces them everywhere.
+  std::map<index_t, index_t> replaced;
+};
+
+/// Merges the moving object's faces (at the new pose) and the other's on
+/// one surface: the union of both patches re-triangulated (constrained
+/// Delaunay) in the surface's chart, with each patch's boundary edges kept
+/// (split where the two boundary lines cross, and at the other patch's
+/// boundary vertices on them), the moving patch's vertices dropped inside
+/// the other patch and the other's inner vertices dropped near the moving
+/// patch's boundary (closer than `spacing`). Each face gets its sides:
+/// contact faces moving | other, the rest object | `space_material`. The two
+/// patches must not share vertex ids (the caller gives the moving object's
+/// shared vertices new ids). Fails, saying why, on patches that wrap around
+/// their surface or boundary lines that cannot be kept.
+Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector<Tri>& moving_faces,
+                              const std::vector<Tri>& other_faces, const std::function<Vec3(index_t)>& point,
+                              int moving_material, int other_material, int space_material, index_t first_new_id,
+                              double spacing, MergedContact& out);
 
 /// A primitive moved by a rigid pose.
 SurfacePrimitive transform_surface(const SurfacePrimitive& s, const RigidPose& pose);

@@ -20,67 +20,6 @@ Vec3 face_normal(const Vec3& a, const Vec3& b, const Vec3& c) {
   return l > 0 ? Vec3(n / l) : Vec3::Zero();
 }
 
-double distance_to_triangle_2d(const Vec2& q, const Vec2& a, const Vec2& b, const Vec2& c) {
-  const auto cross = [](const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); };
-  const double area = cross(b - a, c - a);
-  const double s0 = cross(b - q, c - q), s1 = cross(c - q, a - q), s2 = cross(a - q, b - q);
-  if (area != 0 && ((s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0))) return 0;
-  const auto seg = [&](const Vec2& u, const Vec2& v) {
-    const Vec2 d = v - u;
-    const double l2 = d.squaredNorm();
-    const double t = l2 > 0 ? std::clamp((q - u).dot(d) / l2, 0.0, 1.0) : 0.0;
-    return (u + t * d - q).norm();
-  };
-  return std::min({seg(a, b), seg(b, c), seg(c, a)});
-}
-
-// The faces of one region in a chart, unwrapped face by face, binned.
-class ChartFaces {
- public:
-  ChartFaces(const SurfaceChart& chart, const std::function<Vec3(index_t)>& point, const std::vector<Tri>& faces,
-             const std::vector<index_t>& which, double cell)
-      : chart_(chart), cell_(cell) {
-    for (const index_t f : which) {
-      std::array<Vec2, 3> t;
-      t[0] = chart.map(point(faces[f][0]));
-      for (int i = 1; i < 3; ++i) t[i] = chart.unwrap(chart.map(point(faces[f][i])), t[0]);
-      const index_t id = static_cast<index_t>(tris_.size());
-      tris_.push_back(t);
-      Vec2 lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]), hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
-      for (long i = cell_of(lo.x()); i <= cell_of(hi.x()); ++i)
-        for (long j = cell_of(lo.y()); j <= cell_of(hi.y()); ++j) bins_[key(i, j)].push_back(id);
-    }
-  }
-
-  // Within `tol` of a face, across the seam too.
-  bool contains(const Vec2& q0, double tol) const {
-    for (int k = -1; k <= 1; ++k) {
-      if (k != 0 && chart_.period.x() == 0) continue;
-      const Vec2 q = q0 + Vec2(k * chart_.period.x(), 0);
-      std::unordered_set<index_t> seen;
-      for (long i = cell_of(q.x() - tol); i <= cell_of(q.x() + tol); ++i)
-        for (long j = cell_of(q.y() - tol); j <= cell_of(q.y() + tol); ++j) {
-          const auto it = bins_.find(key(i, j));
-          if (it == bins_.end()) continue;
-          for (const index_t t : it->second)
-            if (seen.insert(t).second && distance_to_triangle_2d(q, tris_[t][0], tris_[t][1], tris_[t][2]) <= tol)
-              return true;
-        }
-    }
-    return false;
-  }
-
- private:
-  long cell_of(double x) const { return static_cast<long>(std::floor(x / cell_)); }
-  static std::uint64_t key(long i, long j) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) | static_cast<std::uint32_t>(j);
-  }
-  const SurfaceChart& chart_;
-  double cell_;
-  std::vector<std::array<Vec2, 3>> tris_;
-  std::unordered_map<std::uint64_t, std::vector<index_t>> bins_;
-};
-
 }  // namespace
 
 SurfacePrimitive transform_surface(const SurfacePrimitive& s, const RigidPose& pose) {
@@ -104,7 +43,7 @@ std::vector<index_t> classify_object_faces(const std::function<Vec3(index_t)>& p
     for (std::size_t r = 0; r < regions.size(); ++r) {
       const SurfacePrimitive& s = regions[r];
       if (s.type == SurfaceType::Unknown) continue;
-      const double d = std::max({distance(s, a), distance(s, b), distance(s, c), distance(s, g)});
+      const double d = std::max({distance(s, a), distance(s, b), distance(s, c)});
       if (d > best) continue;
       if (std::abs(n.dot(surface_normal(s, g))) < cos30) continue;
       best = d;
@@ -151,8 +90,9 @@ std::vector<ContactRegion> detect_contacts(const std::function<Vec3(index_t)>& m
       if (area <= 0) continue;
       edge /= 3.0 * static_cast<double>(fb.size());
       const SurfaceChart chart = make_surface_chart(sb, closest_point(sb, centre / area));
-      const ChartFaces in_b(chart, other_point, other.faces, fb, edge);
-      const ChartFaces in_a(chart, moving_point, moving.faces, fa, edge);
+      ChartTriangles in_b(chart, edge), in_a(chart, edge);
+      for (const index_t f : fb) in_b.add(other_point(other.faces[f][0]), other_point(other.faces[f][1]), other_point(other.faces[f][2]));
+      for (const index_t f : fa) in_a.add(moving_point(moving.faces[f][0]), moving_point(moving.faces[f][1]), moving_point(moving.faces[f][2]));
       ContactRegion c;
       c.moving_material = moving.material;
       c.other_material = other.material;
@@ -179,11 +119,13 @@ std::vector<ContactRegion> detect_contacts(const std::function<Vec3(index_t)>& m
         // The other's outward normal at g is its surface normal (convex) or
         // its opposite: compare with one of its faces there.
         if (c.moving_faces.size() == 1) {
+          double nearest = 3 * edge;
           for (const index_t h : fb) {
             const Vec3 x = points[other.faces[h][0]], y = points[other.faces[h][1]], z = points[other.faces[h][2]];
-            if (((x + y + z) / 3 - g).norm() > 3 * edge) continue;
+            const double d = ((x + y + z) / 3 - g).norm();
+            if (d >= nearest) continue;
+            nearest = d;
             facing = face_normal(p, q, r).dot(face_normal(x, y, z)) < 0;
-            break;
           }
         }
       }

@@ -1,6 +1,8 @@
 #include "geometry/surface_chart.h"
 
+#include <algorithm>
 #include <cmath>
+#include <unordered_set>
 
 namespace femorph {
 
@@ -128,6 +130,64 @@ Vec2 SurfaceChart::unwrap(const Vec2& q, const Vec2& near) const {
   for (int i = 0; i < 2; ++i)
     if (period[i] > 0) r[i] -= period[i] * std::round((r[i] - near[i]) / period[i]);
   return r;
+}
+
+double distance_to_triangle_2d(const Vec2& q, const Vec2& a, const Vec2& b, const Vec2& c) {
+  const auto cross = [](const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); };
+  const double area = cross(b - a, c - a);
+  const double s0 = cross(b - q, c - q), s1 = cross(c - q, a - q), s2 = cross(a - q, b - q);
+  if (area != 0 && ((s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0))) return 0;
+  const auto seg = [&](const Vec2& u, const Vec2& v) {
+    const Vec2 d = v - u;
+    const double l2 = d.squaredNorm();
+    const double t = l2 > 0 ? std::clamp((q - u).dot(d) / l2, 0.0, 1.0) : 0.0;
+    return (u + t * d - q).norm();
+  };
+  return std::min({seg(a, b), seg(b, c), seg(c, a)});
+}
+
+namespace {
+
+std::uint64_t bin_key(long i, long j) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) | static_cast<std::uint32_t>(j);
+}
+
+}  // namespace
+
+long ChartTriangles::cell_of(double x) const { return static_cast<long>(std::floor(x / cell_)); }
+
+index_t ChartTriangles::add(const Vec3& a, const Vec3& b, const Vec3& c) {
+  std::array<Vec2, 3> t;
+  t[0] = chart_.map(a);
+  t[1] = chart_.unwrap(chart_.map(b), t[0]);
+  t[2] = chart_.unwrap(chart_.map(c), t[0]);
+  return add(t);
+}
+
+index_t ChartTriangles::add(const std::array<Vec2, 3>& t) {
+  const index_t id = static_cast<index_t>(tris_.size());
+  tris_.push_back(t);
+  const Vec2 lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]), hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+  for (long i = cell_of(lo.x()); i <= cell_of(hi.x()); ++i)
+    for (long j = cell_of(lo.y()); j <= cell_of(hi.y()); ++j) bins_[bin_key(i, j)].push_back(id);
+  return id;
+}
+
+bool ChartTriangles::contains(const Vec2& q0, double tol) const {
+  for (int k = -1; k <= 1; ++k) {
+    if (k != 0 && chart_.period.x() == 0) continue;
+    const Vec2 q = q0 + Vec2(k * chart_.period.x(), 0);
+    std::unordered_set<index_t> seen;
+    for (long i = cell_of(q.x() - tol); i <= cell_of(q.x() + tol); ++i)
+      for (long j = cell_of(q.y() - tol); j <= cell_of(q.y() + tol); ++j) {
+        const auto it = bins_.find(bin_key(i, j));
+        if (it == bins_.end()) continue;
+        for (const index_t t : it->second)
+          if (seen.insert(t).second && distance_to_triangle_2d(q, tris_[t][0], tris_[t][1], tris_[t][2]) <= tol)
+            return true;
+      }
+  }
+  return false;
 }
 
 }  // namespace femorph

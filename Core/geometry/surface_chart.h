@@ -6,6 +6,8 @@
 #include "geometry/surface_primitive.h"
 #include "geometry/triangulate_2d.h"
 
+#include <unordered_map>
+
 namespace femorph {
 
 /// A chart centred on a point of the surface (angles are measured from the
@@ -40,5 +42,31 @@ struct SurfaceChart {
 /// its apex). Unknown surfaces: a plane chart is meaningless, so callers must
 /// not ask (the result maps everything to the origin).
 SurfaceChart make_surface_chart(const SurfacePrimitive& s, const Vec3& centre);
+
+/// Triangles in a chart (each unwrapped across the seam from its first
+/// vertex), binned on a grid of `cell`, for inclusion tests (thesis 3.4.2
+/// step 3).
+class ChartTriangles {
+ public:
+  ChartTriangles(const SurfaceChart& chart, double cell) : chart_(chart), cell_(cell > 0 ? cell : 1) {}
+  /// Adds the triangle with these 3D corners; returns its index.
+  index_t add(const Vec3& a, const Vec3& b, const Vec3& c);
+  /// Adds a triangle given in chart coordinates (already unwrapped).
+  index_t add(const std::array<Vec2, 3>& t);
+  /// Whether q (or q shifted by a period) lies within `tol` of a triangle.
+  bool contains(const Vec2& q, double tol) const;
+  const std::array<Vec2, 3>& triangle(index_t t) const { return tris_[t]; }
+  index_t size() const { return static_cast<index_t>(tris_.size()); }
+
+ private:
+  long cell_of(double x) const;
+  const SurfaceChart& chart_;
+  double cell_;
+  std::vector<std::array<Vec2, 3>> tris_;
+  std::unordered_map<std::uint64_t, std::vector<index_t>> bins_;
+};
+
+/// Distance in the plane from q to the triangle (a, b, c) (0 inside).
+double distance_to_triangle_2d(const Vec2& q, const Vec2& a, const Vec2& b, const Vec2& c);
 
 }  // namespace femorph

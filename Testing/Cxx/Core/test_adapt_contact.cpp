@@ -2,9 +2,12 @@
 // exactly: two boxes meeting on part of a face, a cylinder in a half tube.
 #include "adapt/contact.h"
 
+#include "test_adapt_meshes.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 namespace femorph {
 namespace {
@@ -109,6 +112,88 @@ TEST(AdaptContact, TwoBoxesMeetOnPartOfAFace) {
   for (const SurfacePrimitive& s : ia.regions) ra.push_back(transform_surface(s, pose));
   for (const ContactRegion& e : detect_contacts(moved, a, fa, ra, points, b, fb, ib.regions, tol, 2.0))
     EXPECT_TRUE(e.moving_faces.empty()) << "faces in contact across an edge";
+}
+
+}  // namespace
+}  // namespace femorph
+
+namespace femorph {
+namespace {
+
+double area3(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * (b - a).cross(c - a).norm(); }
+
+// Thesis 3.7.3's case: the cylinder translated by s along +z, its side
+// against the half tube's inner surface. Detection finds the one contact;
+// the merged surface shares the exact overlap between the two objects and
+// keeps both patches' boundaries.
+TEST(AdaptContact, CylinderIntoHalfTubeMergesTheOverlap) {
+  const testing::CylinderHalfTube g;
+  const testing::MaterialMesh mm = testing::make_cylinder_half_tube(g);
+  ASSERT_FALSE(mm.tets.empty());
+  TetMesh mesh;
+  ASSERT_TRUE(mesh.build(mm.points, mm.tets));
+  const std::vector<ObjectBoundary> objects = object_boundaries(mesh, mm.material);
+  ASSERT_EQ(objects.size(), 2u);
+  ObjectSurfaceInfo cyl, tube;
+  ASSERT_TRUE(segment_object(mesh.points(), objects[0], cyl));
+  ASSERT_TRUE(segment_object(mesh.points(), objects[1], tube));
+  const double tol = 1e-6 * cyl.scale;
+  const auto fixed = [&](index_t v) { return mesh.point(v); };
+  const auto tube_region = classify_object_faces(fixed, objects[1].faces, tube.regions, tol);
+  for (const double s : {1.0, 2.3, 4.5}) {
+    RigidPose pose;
+    pose.t = Vec3(0, 0, s);
+    const auto moved = [&](index_t v) { return pose.apply(mesh.point(v)); };
+    std::vector<SurfacePrimitive> posed;
+    for (const SurfacePrimitive& p : cyl.regions) posed.push_back(transform_surface(p, pose));
+    const auto cyl_region = classify_object_faces(moved, objects[0].faces, posed, tol);
+    const auto contacts = detect_contacts(moved, objects[0], cyl_region, posed, mesh.points(), objects[1],
+                                          tube_region, tube.regions, tol, cyl.scale);
+    ASSERT_EQ(contacts.size(), 1u) << "s = " << s;
+    const ContactRegion& c = contacts[0];
+    ASSERT_EQ(c.surface.type, SurfaceType::Cylinder);
+    const testing::ContactArea expected = testing::cylinder_half_tube_contact_area(g, s);
+    // Whole faces with their centroid inside: within one row of faces.
+    EXPECT_NEAR(c.moving_area, expected.discrete, g.n_half() * g.edge() * g.edge()) << "s = " << s;
+
+    // Merge the cylinder's side below y = 0.6 r (a zone around the contact)
+    // and the tube's inner side. The cylinder's vertices get ids past the
+    // mesh's (no shared ids).
+    const index_t shift = mesh.vertex_slots();
+    std::vector<Tri> mf, cf;
+    for (std::size_t f = 0; f < objects[0].faces.size(); ++f)
+      if (cyl_region[f] == c.moving_region) {
+        const Tri& o = objects[0].faces[f];
+        if (std::max({mesh.point(o[0]).y(), mesh.point(o[1]).y(), mesh.point(o[2]).y()}) > 0.6 * g.r) continue;
+        Tri t = objects[0].faces[f];
+        for (index_t& v : t) v += shift;
+        mf.push_back(t);
+      }
+    for (std::size_t f = 0; f < objects[1].faces.size(); ++f)
+      if (tube_region[f] == c.other_region) cf.push_back(objects[1].faces[f]);
+    const auto point = [&](index_t v) { return v >= shift ? moved(v - shift) : mesh.point(v); };
+    MergedContact merged;
+    const Status st = merge_contact_surfaces(c.surface, mf, cf, point, 1, 2, 0, 2 * shift, 0.3 * g.edge(), merged);
+    ASSERT_TRUE(st) << st.message;
+    const auto at = [&](index_t v) { return v >= 2 * shift ? merged.new_points[v - 2 * shift] : point(v); };
+    EXPECT_NEAR(merged.contact_area, expected.discrete, 0.01 * expected.discrete) << "s = " << s;
+    // Areas: the moving side = its patch, the other side = its patch.
+    double patch_m = 0, patch_c = 0, side_m = 0, side_c = 0;
+    for (const Tri& t : mf) patch_m += area3(point(t[0]), point(t[1]), point(t[2]));
+    for (const Tri& t : cf) patch_c += area3(point(t[0]), point(t[1]), point(t[2]));
+    std::map<std::pair<index_t, index_t>, int> edges;
+    for (const SidedFace& f : merged.faces) {
+      const double a = area3(at(f.v[0]), at(f.v[1]), at(f.v[2]));
+      EXPECT_GT(a, 1e-6 * g.edge() * g.edge()) << "a degenerate face";
+      if (f.back == 1 || f.front == 1) side_m += a;
+      if (f.back == 2 || f.front == 2) side_c += a;
+      EXPECT_TRUE((f.back == 2 && (f.front == 1 || f.front == 0)) || (f.back == 1 && f.front == 0));
+      for (int i = 0; i < 3; ++i) ++edges[{std::min(f.v[i], f.v[(i + 1) % 3]), std::max(f.v[i], f.v[(i + 1) % 3])}];
+    }
+    EXPECT_NEAR(side_m, patch_m, 0.01 * patch_m) << "s = " << s;
+    EXPECT_NEAR(side_c, patch_c, 0.01 * patch_c) << "s = " << s;
+    for (const auto& [e, n] : edges) EXPECT_LE(n, 2) << "a non-manifold edge";
+  }
 }
 
 }  // namespace
