@@ -272,4 +272,40 @@ class AdaptSession {
   std::vector<VertexStencil> step_origin_;  ///< per vertex slot: AdaptOutput::point_previous
 };
 
+// ---- Thesis 3.5.5, the contact case: refilling a hole -----------------------
+
+/// One triangle of a hole's PLC: vertices (indices into the points), and the
+/// material on each side: `front` on the side its normal (right hand v0, v1,
+/// v2) points to, `back` on the other; -1 = outside the hole (the kept mesh,
+/// or outside the domain).
+struct HoleFacet {
+  std::array<index_t, 3> v;
+  int front;
+  int back;
+};
+
+/// 3.5.5: fills the hole bounded by the facets with -1 on one side (a closed,
+/// edge-manifold surface) and cut by the facets with materials on both sides
+/// (interfaces), by TetGen's constrained Delaunay refinement (-pYq<ratio>):
+/// no Steiner point on any facet, every facet a face of the refill.
+/// `radius_edge_ratio` is -q's bound (>= 1; mesh_space_around uses 1.4).
+/// Only the facets' points go to TetGen; the new points the refill uses are
+/// appended to `points`; `tets` (positively oriented) and `material` are
+/// overwritten with the refill, each tet taking the material of the facet
+/// sides around its region (flood fill; regions facing -1, e.g. kept tets
+/// enclosed by the hole, are dropped). Fails, saying why and leaving
+/// `points` as it was, on an open or non-manifold hole boundary, a
+/// degenerate or repeated facet, facet sides that give a region two
+/// materials, a TetGen error, or a split facet.
+Status tetrahedralize_hole(std::vector<Vec3>& points, const std::vector<HoleFacet>& facets,
+                           double radius_edge_ratio, std::vector<Tet>& tets, std::vector<int>& material);
+
+/// The facets of the hole left by removing the live tets `removed` from
+/// `mesh` (ids: vertex slots): the faces between a removed tet and a kept
+/// one or the outside (the removed tet's material inside, -1 outside), and
+/// the faces between removed tets of different materials (interfaces).
+/// `tet_material` gives the material of a tet slot.
+std::vector<HoleFacet> hole_facets(const TetMesh& mesh, const std::vector<index_t>& removed,
+                                   const std::function<int(index_t)>& tet_material);
+
 }  // namespace femorph

@@ -4,7 +4,7 @@
 // split (-Y): the space mesh is conformal to the objects' own meshes.
 #include "adapt/adapt.h"
 
-#include <tetgen.h>
+#include "adapt/tetgen_plc.h"
 
 #include <algorithm>
 #include <cmath>
@@ -111,61 +111,28 @@ Status mesh_space_around(const std::vector<Vec3>& points, const std::vector<Tet>
         }
   }
 
-  tetgenio in, out;
-  in.firstnumber = 0;
-  in.numberofpoints = static_cast<int>(pts.size());
-  in.pointlist = new REAL[3 * pts.size()];
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    for (int a = 0; a < 3; ++a) in.pointlist[3 * i + a] = pts[i][a];
-  in.numberoffacets = static_cast<int>(surface.size());
-  in.facetlist = new tetgenio::facet[surface.size()];
-  for (std::size_t f = 0; f < surface.size(); ++f) {
-    tetgenio::facet& F = in.facetlist[f];
-    tetgenio::init(&F);
-    F.numberofpolygons = 1;
-    F.polygonlist = new tetgenio::polygon[1];
-    tetgenio::init(&F.polygonlist[0]);
-    F.polygonlist[0].numberofvertices = 3;
-    F.polygonlist[0].vertexlist = new int[3];
-    for (int k = 0; k < 3; ++k) F.polygonlist[0].vertexlist[k] = surface[f][k];
-  }
-  in.numberofholes = static_cast<int>(holes.size());
-  in.holelist = new REAL[3 * holes.size()];
-  for (std::size_t h = 0; h < holes.size(); ++h)
-    for (int a = 0; a < 3; ++a) in.holelist[3 * h + a] = holes[h][a];
   // p: a piecewise linear complex; Y: no Steiner point on it; q: radius-edge
   // ratio bound (the sizes grade from the objects' surfaces to the box's);
   // Q: quiet.
-  char switches[] = "pYq1.4Q";
-  try {
-    tetrahedralize(switches, &in, &out);
-  } catch (...) {
-    return Status::failure("mesh_space_around: TetGen failed (self-intersecting or touching object surfaces?)");
-  }
+  std::vector<Vec3> tg_points;
+  std::vector<Tet> tg_tets;
+  const Status s = internal::tetgen_plc(pts, surface, holes, "pYq1.4Q", tg_points, tg_tets);
+  if (!s) return Status::failure("mesh_space_around: " + s.message + " (self-intersecting or touching object surfaces?)");
   // Output points: the objects' as given, then TetGen's others (its first
   // points are the input's, in order).
   out_points = points;
   out_tets = tets;
   out_material = material;
-  std::vector<index_t> id(static_cast<std::size_t>(out.numberofpoints), kInvalidIndex);
-  std::vector<index_t> surface_to_input(pts.size(), kInvalidIndex);
+  std::vector<index_t> id(tg_points.size(), kInvalidIndex);
   for (std::size_t v = 0; v < points.size(); ++v)
-    if (surface_point[v] >= 0) surface_to_input[surface_point[v]] = static_cast<index_t>(v);
-  for (int i = 0; i < out.numberofpoints; ++i) {
-    const Vec3 p(out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]);
-    if (i < static_cast<int>(pts.size()) && p == pts[i] && surface_to_input[i] >= 0) {
-      id[i] = surface_to_input[i];
-      continue;
+    if (surface_point[v] >= 0) id[surface_point[v]] = static_cast<index_t>(v);
+  for (std::size_t i = 0; i < tg_points.size(); ++i)
+    if (id[i] < 0) {
+      id[i] = static_cast<index_t>(out_points.size());
+      out_points.push_back(tg_points[i]);
     }
-    id[i] = static_cast<index_t>(out_points.size());
-    out_points.push_back(p);
-  }
-  for (int t = 0; t < out.numberoftetrahedra; ++t) {
-    Tet T;
-    for (int k = 0; k < 4; ++k) T[k] = id[out.tetrahedronlist[out.numberofcorners * t + k]];
-    const Vec3 &a = out_points[T[0]], &b = out_points[T[1]], &c = out_points[T[2]], &d = out_points[T[3]];
-    if ((b - a).dot((c - a).cross(d - a)) < 0) std::swap(T[0], T[1]);
-    out_tets.push_back(T);
+  for (const Tet& t : tg_tets) {
+    out_tets.push_back({{id[t[0]], id[t[1]], id[t[2]], id[t[3]]}});
     out_material.push_back(0);
   }
   // Box points TetGen did not use would dangle: it uses them all (-Y).
