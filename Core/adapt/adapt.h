@@ -96,6 +96,7 @@ struct AdaptStepReport {
   /// The time by part: G_v and K_Df (3.4), the region as a mesh of its own,
   /// the embedding (3.5.3), the improvement (3.6), the splice back.
   double seconds_region = 0, seconds_submesh = 0, seconds_embed = 0, seconds_improve = 0, seconds_splice = 0;
+  double seconds_contact = 0;  ///< contact zone: patches merged, refilled
   std::vector<std::string> warnings;
 };
 
@@ -154,6 +155,17 @@ std::vector<index_t> extract_deformed_region(const TetMesh& mesh, const std::vec
 
 /// A copy of tets of a TetMesh as a mesh of its own (the deformed region),
 /// with the map back to the big mesh.
+/// Beyond the thesis: grows `region` (tets of `mesh`) into a manifold
+/// submesh: a vertex whose ball is pinched (the region's part or the rest
+/// not face-connected around it) takes its whole ball, the tets `may_take`
+/// accepts; the tets added bring their vertices to check.
+void close_region(const TetMesh& mesh, std::vector<index_t>& region, const std::function<bool(index_t)>& may_take);
+
+/// The opposite: shrinks `region` into a manifold submesh by dropping the
+/// region's tets around each pinched vertex (where objects touch along a
+/// line, the space between them is pinched).
+void open_region(const TetMesh& mesh, std::vector<index_t>& region);
+
 struct RegionMesh {
   TetMesh mesh;
   std::vector<index_t> global_vertex;  ///< local vertex -> big mesh vertex (build-time slots)
@@ -218,6 +230,9 @@ Status mesh_space_around(const std::vector<Vec3>& points, const std::vector<Tet>
 /// Mean and minimum stretch of the live tets of a mesh.
 void stretch_range(const TetMesh& mesh, double* min, double* mean);
 
+struct ContactRegion;
+struct AdaptContactState;
+
 class AdaptSession {
  public:
   /// Builds the session from the input mesh (tets positively oriented or all
@@ -243,6 +258,16 @@ class AdaptSession {
   /// minimum stretch ends below the input's minimum is such a failure.
   Status move_to(const RigidPose& to, AdaptStepReport& report, bool* retry, bool keep_quality);
   void refresh_stretch(const std::vector<index_t>& removed, const std::vector<index_t>& added);
+  // Contact (adapt_contact.cpp): the objects' segmented surfaces, contacts
+  // at a pose, the zone removed around them, its refill in the region, the
+  // moving object's vertex lists after a refill changed them.
+  Status init_contact();
+  std::vector<ContactRegion> contacts_at(const RigidPose& to) const;
+  std::vector<index_t> contact_zone(const std::vector<ContactRegion>& contacts) const;
+  Status remesh_contact_zone(RegionMesh& rm, const std::vector<index_t>& zone,
+                             const std::vector<ContactRegion>& contacts, const RigidPose& to);
+  void rebuild_object_vertices(const std::vector<index_t>& created, const RigidPose& to);
+  std::shared_ptr<AdaptContactState> contact_;
   TetMesh mesh_;
   std::vector<int> material_;              ///< per input tet (by tet_origin)
   std::vector<index_t> object_vertices_;   ///< the moving object's vertices

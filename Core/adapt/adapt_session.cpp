@@ -172,7 +172,7 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
   input_vertices_ = mesh_.live_vertices();
   input_min_stretch_ = input_min;
   quality_floor_ = options.quality_floor > 0 ? options.quality_floor : std::clamp(1.1 * input_min, 0.1, 0.4);
-  return Status::success();
+  return init_contact();
 }
 
 void AdaptSession::refresh_stretch(const std::vector<index_t>& removed, const std::vector<index_t>& added) {

@@ -5,6 +5,7 @@
 // and improved in turn; a step that cannot be done is refused and the mesh
 // stays at the previous step.
 #include "adapt/adapt.h"
+#include "adapt/contact.h"
 
 #include "mesh/vertex_stencil.h"
 #include "quality/tet_quality.h"
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <unordered_set>
 
 namespace femorph {
 
@@ -27,10 +29,34 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     lap = now;
     return s;
   };
+  // 3.4.2 at the new pose; with contact (or shared vertices left by the
+  // last one), the zone around it joins the region (3.5.2).
+  std::vector<ContactRegion> contacts;
+  std::vector<index_t> zone;
+  if (contact_) {
+    contacts = contacts_at(to);
+    if (!contacts.empty() || !contact_->shared.empty()) zone = contact_zone(contacts);
+  }
   // 3.4.3 at the current pose.
   const VertexGrid vertex_grid = build_vertex_grid(mesh_, box_lo_, box_hi_, cell_);
-  const std::vector<index_t> region = extract_deformed_region(mesh_, material_, vertex_grid, distance_grid_,
-                                                              pose_.inverse(), options_.distance_threshold);
+  std::vector<index_t> region = extract_deformed_region(mesh_, material_, vertex_grid, distance_grid_,
+                                                        pose_.inverse(), options_.distance_threshold);
+  if (!zone.empty()) {
+    std::sort(region.begin(), region.end());
+    std::vector<index_t> both;
+    std::set_union(region.begin(), region.end(), zone.begin(), zone.end(), std::back_inserter(both));
+    region = std::move(both);
+    // The union may pinch where the zone's object tets meet the space part.
+    const auto may_take = [&](index_t t) {
+      const int m = material_[mesh_.tet_origin(t)];
+      if (m == 0 || m == options_.moving_object) return true;
+      for (const ContactRegion& c : contacts)
+        if (c.other_material == m) return true;
+      return false;
+    };
+    close_region(mesh_, region, may_take);
+    std::sort(region.begin(), region.end());
+  }
   report.seconds_region += since();
   RegionMesh rm;
   Status s = make_region_mesh(mesh_, region, rm);
@@ -47,6 +73,18 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     moved[v] = 1;
     moved_position[v] = to.apply(object_rest_[k]);
   }
+  // Other objects stay (the region holds their tets in a contact zone).
+  if (!zone.empty())
+    for (index_t t = 0; t < rm.mesh.tet_slots(); ++t) {
+      if (!rm.mesh.tet_alive(t)) continue;
+      const int m = material_[mesh_.tet_origin(rm.global_tet[rm.mesh.tet_origin(t)])];
+      if (m == 0 || m == options_.moving_object) continue;
+      for (const index_t v : rm.mesh.tet(t))
+        if (!moved[v]) {
+          moved[v] = 1;
+          moved_position[v] = rm.mesh.point(v);
+        }
+    }
   std::size_t inner = 0;
   const TetMesh before = rm.mesh;
   s = embed_deformed_region(rm, moved, moved_position, &inner);
@@ -54,6 +92,21 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
   if (!s) return s;
   report.deformed_region_tets += region.size();
   report.inner_vertices += inner;
+  if (!zone.empty()) {
+    // The zone's tets in the region's ids (build-time: the order of region).
+    std::vector<index_t> local;
+    for (std::size_t i = 0, j = 0; i < region.size() && j < zone.size(); ++i)
+      if (region[i] == zone[j]) {
+        local.push_back(static_cast<index_t>(i));
+        ++j;
+      }
+    s = remesh_contact_zone(rm, local, contacts, to);
+    report.seconds_contact += since();
+    if (!s) {
+      *retry = true;
+      return s;
+    }
+  }
   // (iii) must leave no inverted element for Improve to start from a
   // valid mesh; a smaller sub-step does.
   for (index_t t = 0; t < rm.mesh.tet_slots(); ++t)
@@ -61,7 +114,14 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
       *retry = true;
       return Status::failure("the embedding inverts elements");
     }
-  if (options_.improve) {
+  if (options_.improve && !zone.empty()) {
+    s = improve_space_part(rm, material_, mesh_, density_.get(), density_scale_, quality_floor_);
+    report.seconds_improve += since();
+    if (!s) {
+      *retry = true;
+      return s;
+    }
+  } else if (options_.improve) {
     s = improve_deformed_region(rm, density_.get(), density_scale_, quality_floor_);
     report.seconds_improve += since();
     if (!s) {
@@ -188,6 +248,7 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
   for (index_t v = 0; v < built; ++v)
     if (sub.vertex_alive(v)) step_origin_[rm.global_vertex[v]] = origin[v];
   for (std::size_t i = 0; i < created.size(); ++i) step_origin_[created[i]] = new_step_origins[i];
+  if (contact_ && (!zone.empty() || !contact_->shared.empty())) rebuild_object_vertices(created, to);
   // (ii) the whole object moves rigidly (its inside is no part of K_Df).
   for (std::size_t k = 0; k < object_vertices_.size(); ++k)
     mesh_.set_point(object_vertices_[k], to.apply(object_rest_[k]));
@@ -220,10 +281,18 @@ Status AdaptSession::advance(AdaptStepReport* report_out) {
   report.substeps = 0;
   const RigidPose target = motion_.pose(next);
   {
-    std::vector<Vec3> moved(object_surface_.size());
-    for (std::size_t i = 0; i < object_surface_.size(); ++i)
-      moved[i] = target.apply(object_rest_[object_index_[object_surface_[i]]]);
-    const Status p = detect_penetration(mesh_, material_, options_.moving_object, object_surface_, moved);
+    // Vertices that end on another object's surface (contact) are no
+    // penetration; the walk cannot tell them.
+    std::unordered_set<index_t> touching;
+    for (const ContactRegion& c : contacts_at(target)) touching.insert(c.moving_vertices.begin(), c.moving_vertices.end());
+    std::vector<index_t> walkers;
+    std::vector<Vec3> moved;
+    for (const index_t v : object_surface_) {
+      if (touching.count(v)) continue;
+      walkers.push_back(v);
+      moved.push_back(target.apply(object_rest_[object_index_[v]]));
+    }
+    const Status p = detect_penetration(mesh_, material_, options_.moving_object, walkers, moved);
     if (!p)
       return Status::failure("step " + std::to_string(next) + " refused: " + p.message + " (earlier steps are kept)");
   }

@@ -65,29 +65,25 @@ struct ContactRegion {
 /// outward normals, and the vertices and faces of each inside the other,
 /// tested in the 2D chart of the surface. `moving_point(v)` gives the
 /// moving object's vertex v at the pose tested; its regions are given at
-/// that pose. Faces are indexed as in the ObjectBoundary lists.
+/// that pose. Faces are indexed as in the ObjectBoundary lists. With
+/// `reach` > 0, vertices within `reach` of the other region in the chart
+/// join the vertex sets, and a pair whose sets are not empty is reported
+/// even without faces in contact: objects about to touch (3.5.2's removal
+/// ahead of the contact).
 std::vector<ContactRegion> detect_contacts(const std::function<Vec3(index_t)>& moving_point,
                                            const ObjectBoundary& moving, const std::vector<index_t>& moving_face_region,
                                            const std::vector<SurfacePrimitive>& moving_regions,
                                            const std::vector<Vec3>& points, const ObjectBoundary& other,
                                            const std::vector<index_t>& other_face_region,
                                            const std::vector<SurfacePrimitive>& other_regions, double tolerance,
-                                           double scale);
-
-/// A face with the material on each side: `front` on the side its normal
-/// (right hand v0, v1, v2) points to, `back` on the other.
-struct SidedFace {
-  Tri v;
-  int front = 0;
-  int back = 0;
-};
+                                           double scale, double reach = 0);
 
 /// The contact surfaces of the moving object and of the other object inside
 /// the removed zone, merged into one surface (thesis 3.5.4, done by
 /// re-triangulation in the surface's chart instead of vertex pairing).
 struct MergedContact {
   std::vector<Vec3> new_points;  ///< crossings of the two boundary lines (3.5.4.2), ids first_new_id + k
-  std::vector<SidedFace> faces;  ///< the merged surface, materials on both sides
+  std::vector<HoleFacet> faces;  ///< the merged surface, materials on both sides
   /// Boundary edges of the two patches that received points, keyed by
   /// (min id, max id): the points in order from the min id to the max id.
   std::map<std::pair<index_t, index_t>, std::vector<index_t>> split_edges;
@@ -112,6 +108,24 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
                               const std::vector<Tri>& other_faces, const std::function<Vec3(index_t)>& point,
                               int moving_material, int other_material, int space_material, index_t first_new_id,
                               double spacing, MergedContact& out);
+
+struct DensityGrid;
+/// 3.6 on a region that holds objects' tets (a contact zone): the space
+/// tets alone are improved (improve_deformed_region), their interfaces with
+/// the objects fixed, and put back into the region.
+Status improve_space_part(RegionMesh& rm, const std::vector<int>& material_by_origin, const TetMesh& mesh,
+                          const DensityGrid* density, double density_scale, double quality_floor);
+
+/// What an AdaptSession keeps for contact (adapt_contact.cpp).
+struct AdaptContactState {
+  ObjectSurfaceInfo moving;                 ///< rest frame
+  std::vector<ObjectSurfaceInfo> others;    ///< fixed objects
+  std::vector<Vec3> other_lo, other_hi;     ///< their boxes
+  Vec3 moving_lo = Vec3::Zero(), moving_hi = Vec3::Zero();  ///< rest frame
+  double tolerance = 0;                     ///< on surfaces, lengths
+  double spacing = 0;                       ///< the objects' mean surface edge
+  std::vector<index_t> shared;              ///< vertices of the moving object and another
+};
 
 /// A primitive moved by a rigid pose.
 SurfacePrimitive transform_surface(const SurfacePrimitive& s, const RigidPose& pose);

@@ -59,7 +59,7 @@ std::vector<ContactRegion> detect_contacts(const std::function<Vec3(index_t)>& m
                                            const std::vector<Vec3>& points, const ObjectBoundary& other,
                                            const std::vector<index_t>& other_face_region,
                                            const std::vector<SurfacePrimitive>& other_regions, double tolerance,
-                                           double scale) {
+                                           double scale, double reach) {
   std::vector<ContactRegion> out;
   const auto other_point = [&points](index_t v) { return points[v]; };
   const auto faces_of = [](const std::vector<index_t>& face_region, index_t r) {
@@ -104,10 +104,10 @@ std::vector<ContactRegion> detect_contacts(const std::function<Vec3(index_t)>& m
       std::unordered_set<index_t> va, vb;
       for (const index_t f : fa)
         for (const index_t v : moving.faces[f])
-          if (!va.count(v) && in_b.contains(chart.map(moving_point(v)), tolerance)) va.insert(v);
+          if (!va.count(v) && in_b.contains(chart.map(moving_point(v)), std::max(tolerance, reach))) va.insert(v);
       for (const index_t f : fb)
         for (const index_t v : other.faces[f])
-          if (!vb.count(v) && in_a.contains(chart.map(points[v]), tolerance)) vb.insert(v);
+          if (!vb.count(v) && in_a.contains(chart.map(points[v]), std::max(tolerance, reach))) vb.insert(v);
       bool facing = true;
       for (const index_t f : fa) {
         const Vec3 p = moving_point(moving.faces[f][0]), q = moving_point(moving.faces[f][1]),
@@ -134,7 +134,7 @@ std::vector<ContactRegion> detect_contacts(const std::function<Vec3(index_t)>& m
         const Vec3 g = (points[other.faces[f][0]] + points[other.faces[f][1]] + points[other.faces[f][2]]) / 3;
         if (in_a.contains(chart.map(g), 0)) c.other_faces.push_back(f);
       }
-      if (c.moving_faces.empty() && c.other_faces.empty()) continue;
+      if (c.moving_faces.empty() && c.other_faces.empty() && (reach <= 0 || va.empty() || vb.empty())) continue;
       c.moving_vertices.assign(va.begin(), va.end());
       c.other_vertices.assign(vb.begin(), vb.end());
       std::sort(c.moving_vertices.begin(), c.moving_vertices.end());

@@ -67,49 +67,18 @@ bool ball_is_manifold(const TetMesh& mesh, index_t v, const std::vector<index_t>
 
 }  // namespace
 
-std::vector<index_t> extract_deformed_region(const TetMesh& mesh, const std::vector<int>& material_by_origin,
-                                             const VertexGrid& vg, const DistanceGrid& dg,
-                                             const RigidPose& to_object, double threshold) {
-  const auto is_space = [&](index_t t) {
-    const index_t o = mesh.tet_origin(t);
-    return o >= 0 && static_cast<std::size_t>(o) < material_by_origin.size() && material_by_origin[o] == 0;
-  };
-  // G_d's box in space (its corners moved with the object).
-  const RigidPose to_space = to_object.inverse();
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (int c = 0; c < 8; ++c) {
-    Vec3 corner = dg.origin;
-    for (int a = 0; a < 3; ++a)
-      if (c & (1 << a)) corner[a] += dg.n[a] * dg.h;
-    const Vec3 p = to_space.apply(corner);
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  int c0[3], c1[3];
-  for (int a = 0; a < 3; ++a) {
-    c0[a] = std::max(0, static_cast<int>(std::floor((lo[a] - vg.origin[a]) / vg.h - 0.5)));
-    c1[a] = std::min(vg.n[a] - 1, static_cast<int>(std::ceil((hi[a] - vg.origin[a]) / vg.h - 0.5)));
-  }
+void close_region(const TetMesh& mesh, std::vector<index_t>& region, const std::function<bool(index_t)>& may_take) {
   std::vector<std::uint8_t> in_region(static_cast<std::size_t>(mesh.tet_slots()), 0);
-  std::vector<index_t> region, ball, candidates;
+  for (const index_t t : region) in_region[t] = 1;
+  std::vector<index_t> ball, candidates;
   const auto take_ball = [&](index_t v) {
     mesh.vertex_ball(v, ball);
     for (const index_t t : ball) {
-      if (in_region[t] || !is_space(t)) continue;
+      if (in_region[t] || !may_take(t)) continue;
       in_region[t] = 1;
       region.push_back(t);
     }
   };
-  // C_v1 -> C_v2 -> their vertices' space tets.
-  for (int k = c0[2]; k <= c1[2]; ++k)
-    for (int j = c0[1]; j <= c1[1]; ++j)
-      for (int i = c0[0]; i <= c1[0]; ++i) {
-        const std::size_t cell = vg.cell_id(i, j, k);
-        if (vg.start[cell] == vg.start[cell + 1]) continue;
-        const Vec3 centre = vg.origin + vg.h * Vec3(i + 0.5, j + 0.5, k + 0.5);
-        if (!(dg.at(to_object.apply(centre)) < threshold)) continue;
-        for (index_t s = vg.start[cell]; s < vg.start[cell + 1]; ++s) take_ball(vg.vertices[s]);
-      }
   // Closing: a vertex of the region whose ball is pinched takes its whole
   // space ball in; the tets added bring new vertices to check.
   std::vector<std::uint8_t> queued(static_cast<std::size_t>(mesh.vertex_slots()), 0);
@@ -138,6 +107,80 @@ std::vector<index_t> extract_deformed_region(const TetMesh& mesh, const std::vec
         }
       }
   }
+}
+
+void open_region(const TetMesh& mesh, std::vector<index_t>& region) {
+  std::vector<std::uint8_t> in_region(static_cast<std::size_t>(mesh.tet_slots()), 0);
+  for (const index_t t : region) in_region[t] = 1;
+  std::vector<index_t> ball, candidates;
+  std::vector<std::uint8_t> queued(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  for (const index_t t : region)
+    for (const index_t v : mesh.tet(t))
+      if (!queued[v]) {
+        queued[v] = 1;
+        candidates.push_back(v);
+      }
+  for (std::size_t q = 0; q < candidates.size(); ++q) {
+    const index_t v = candidates[q];
+    mesh.vertex_ball(v, ball);
+    if (std::none_of(ball.begin(), ball.end(), [&](index_t t) { return in_region[t] != 0; })) continue;
+    if (!mesh.on_boundary(v) && std::all_of(ball.begin(), ball.end(), [&](index_t t) { return in_region[t] != 0; }))
+      continue;
+    if (ball_is_manifold(mesh, v, ball, in_region)) continue;
+    for (const index_t t : ball) {
+      if (!in_region[t]) continue;
+      in_region[t] = 0;
+      for (const index_t w : mesh.tet(t))
+        if (w != v) candidates.push_back(w);
+    }
+  }
+  region.erase(std::remove_if(region.begin(), region.end(), [&](index_t t) { return !in_region[t]; }), region.end());
+}
+
+std::vector<index_t> extract_deformed_region(const TetMesh& mesh, const std::vector<int>& material_by_origin,
+                                             const VertexGrid& vg, const DistanceGrid& dg,
+                                             const RigidPose& to_object, double threshold) {
+  const auto is_space = [&](index_t t) {
+    const index_t o = mesh.tet_origin(t);
+    return o >= 0 && static_cast<std::size_t>(o) < material_by_origin.size() && material_by_origin[o] == 0;
+  };
+  // G_d's box in space (its corners moved with the object).
+  const RigidPose to_space = to_object.inverse();
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (int c = 0; c < 8; ++c) {
+    Vec3 corner = dg.origin;
+    for (int a = 0; a < 3; ++a)
+      if (c & (1 << a)) corner[a] += dg.n[a] * dg.h;
+    const Vec3 p = to_space.apply(corner);
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  int c0[3], c1[3];
+  for (int a = 0; a < 3; ++a) {
+    c0[a] = std::max(0, static_cast<int>(std::floor((lo[a] - vg.origin[a]) / vg.h - 0.5)));
+    c1[a] = std::min(vg.n[a] - 1, static_cast<int>(std::ceil((hi[a] - vg.origin[a]) / vg.h - 0.5)));
+  }
+  std::vector<std::uint8_t> in_region(static_cast<std::size_t>(mesh.tet_slots()), 0);
+  std::vector<index_t> region, ball;
+  const auto take_ball = [&](index_t v) {
+    mesh.vertex_ball(v, ball);
+    for (const index_t t : ball) {
+      if (in_region[t] || !is_space(t)) continue;
+      in_region[t] = 1;
+      region.push_back(t);
+    }
+  };
+  // C_v1 -> C_v2 -> their vertices' space tets.
+  for (int k = c0[2]; k <= c1[2]; ++k)
+    for (int j = c0[1]; j <= c1[1]; ++j)
+      for (int i = c0[0]; i <= c1[0]; ++i) {
+        const std::size_t cell = vg.cell_id(i, j, k);
+        if (vg.start[cell] == vg.start[cell + 1]) continue;
+        const Vec3 centre = vg.origin + vg.h * Vec3(i + 0.5, j + 0.5, k + 0.5);
+        if (!(dg.at(to_object.apply(centre)) < threshold)) continue;
+        for (index_t s = vg.start[cell]; s < vg.start[cell + 1]; ++s) take_ball(vg.vertices[s]);
+      }
+  close_region(mesh, region, is_space);
   return region;
 }
 

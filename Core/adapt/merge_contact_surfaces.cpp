@@ -216,7 +216,7 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
     const Vec2 g = (pts[t[0]] + pts[t[1]] + pts[t[2]]) / 3;
     const bool m = in_m.contains(g, 0), c = in_c.contains(g, 0);
     if (!m && !c) continue;
-    SidedFace f;
+    HoleFacet f;
     for (int i = 0; i < 3; ++i) f.v[i] = global[pts_local[t[i]]];
     const Vec3 a = position(pts_local[t[0]]), b = position(pts_local[t[1]]), d = position(pts_local[t[2]]);
     const Vec3 n = (b - a).cross(d - a);
