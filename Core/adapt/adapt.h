@@ -266,7 +266,7 @@ class AdaptSession {
   std::vector<index_t> contact_zone(const std::vector<ContactRegion>& contacts) const;
   Status remesh_contact_zone(RegionMesh& rm, const std::vector<index_t>& zone,
                              const std::vector<ContactRegion>& contacts, const RigidPose& to);
-  void rebuild_object_vertices(const std::vector<index_t>& created, const RigidPose& to);
+  void rebuild_object_vertices(const std::vector<index_t>& placed, const RigidPose& to);
   std::shared_ptr<AdaptContactState> contact_;
   TetMesh mesh_;
   std::vector<int> material_;              ///< per input tet (by tet_origin)

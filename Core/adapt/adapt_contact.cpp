@@ -361,13 +361,14 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
   return Status::success();
 }
 
-void AdaptSession::rebuild_object_vertices(const std::vector<index_t>& created, const RigidPose& to) {
+void AdaptSession::rebuild_object_vertices(const std::vector<index_t>& placed, const RigidPose& to) {
   // The moving object's vertices after a contact step (before it moves to
   // the new pose): those only its tets use (a vertex shared with another
   // object stays with that one), with their rest positions kept or, for the
-  // vertices `created` (placed at the new pose `to`), mapped back from it.
+  // vertices `placed` (the adapted region's, at the new pose `to` already:
+  // moved, refilled or improved), mapped back from it.
   const RigidPose back = to.inverse();
-  std::unordered_set<index_t> is_new(created.begin(), created.end());
+  std::unordered_set<index_t> is_new(placed.begin(), placed.end());
   std::vector<std::uint8_t> mine(static_cast<std::size_t>(mesh_.vertex_slots()), 0),
       other(static_cast<std::size_t>(mesh_.vertex_slots()), 0), surface(static_cast<std::size_t>(mesh_.vertex_slots()), 0);
   for (index_t t = 0; t < mesh_.tet_slots(); ++t) {
@@ -407,12 +408,25 @@ void AdaptSession::rebuild_object_vertices(const std::vector<index_t>& created, 
   object_surface_ = std::move(surface_vertices);
 }
 
-Status improve_space_part(RegionMesh& rm, const std::vector<int>& material_by_origin, const TetMesh& mesh,
-                          const DensityGrid* density, double density_scale, double quality_floor) {
+Status improve_material_parts(RegionMesh& rm, const std::vector<int>& material_by_origin, const TetMesh& mesh,
+                              const DensityGrid* density, double density_scale, double quality_floor) {
+  std::set<int> materials;
+  for (index_t t = 0; t < rm.mesh.tet_slots(); ++t)
+    if (rm.mesh.tet_alive(t)) materials.insert(material_of(mesh, material_by_origin, rm.global_tet[rm.mesh.tet_origin(t)]));
+  for (const int m : materials) {
+    const Status s = improve_material_part(rm, m, material_by_origin, mesh, density, density_scale, quality_floor);
+    if (!s) return s;
+  }
+  return Status::success();
+}
+
+Status improve_material_part(RegionMesh& rm, int material, const std::vector<int>& material_by_origin,
+                             const TetMesh& mesh, const DensityGrid* density, double density_scale,
+                             double quality_floor) {
   TetMesh& sub = rm.mesh;
   std::vector<index_t> space;
   for (index_t t = 0; t < sub.tet_slots(); ++t)
-    if (sub.tet_alive(t) && material_of(mesh, material_by_origin, rm.global_tet[sub.tet_origin(t)]) == 0)
+    if (sub.tet_alive(t) && material_of(mesh, material_by_origin, rm.global_tet[sub.tet_origin(t)]) == material)
       space.push_back(t);
   open_region(sub, space);
   if (space.empty()) return Status::success();
@@ -456,7 +470,7 @@ Status improve_space_part(RegionMesh& rm, const std::vector<int>& material_by_or
   s = sub.replace_cavity(space, tets, origins, new_points, new_origins);
   if (!s) {
     for (index_t v = 0; v < built; ++v) sub.set_point(part.global_vertex[v], previous[v]);
-    return Status::failure("the improved space could not be put back (" + s.message + ")");
+    return Status::failure("the improved part could not be put back (" + s.message + ")");
   }
   return Status::success();
 }

@@ -115,7 +115,7 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
       return Status::failure("the embedding inverts elements");
     }
   if (options_.improve && !zone.empty()) {
-    s = improve_space_part(rm, material_, mesh_, density_.get(), density_scale_, quality_floor_);
+    s = improve_material_parts(rm, material_, mesh_, density_.get(), density_scale_, quality_floor_);
     report.seconds_improve += since();
     if (!s) {
       *retry = true;
@@ -248,7 +248,12 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
   for (index_t v = 0; v < built; ++v)
     if (sub.vertex_alive(v)) step_origin_[rm.global_vertex[v]] = origin[v];
   for (std::size_t i = 0; i < created.size(); ++i) step_origin_[created[i]] = new_step_origins[i];
-  if (contact_ && (!zone.empty() || !contact_->shared.empty())) rebuild_object_vertices(created, to);
+  if (contact_ && (!zone.empty() || !contact_->shared.empty())) {
+    std::vector<index_t> placed(created);
+    for (index_t v = 0; v < built; ++v)
+      if (sub.vertex_alive(v)) placed.push_back(rm.global_vertex[v]);
+    rebuild_object_vertices(placed, to);
+  }
   // (ii) the whole object moves rigidly (its inside is no part of K_Df).
   for (std::size_t k = 0; k < object_vertices_.size(); ++k)
     mesh_.set_point(object_vertices_[k], to.apply(object_rest_[k]));

@@ -96,8 +96,8 @@ struct MergedContact {
 /// Merges the moving object's faces (at the new pose) and the other's on
 /// one surface: the union of both patches re-triangulated (constrained
 /// Delaunay) in the surface's chart, with each patch's boundary edges kept
-/// (split where the two boundary lines cross, and at the other patch's
-/// boundary vertices on them), the moving patch's vertices dropped inside
+/// (split where the two boundary lines cross, at a point of the other
+/// patch's edge, and at the other patch's boundary vertices on them), the moving patch's vertices dropped inside
 /// the other patch and the other's inner vertices dropped near the moving
 /// patch's boundary (closer than `spacing`). Each face gets its sides:
 /// contact faces moving | other, the rest object | `space_material`. The two
@@ -110,11 +110,16 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
                               double spacing, MergedContact& out);
 
 struct DensityGrid;
-/// 3.6 on a region that holds objects' tets (a contact zone): the space
-/// tets alone are improved (improve_deformed_region), their interfaces with
-/// the objects fixed, and put back into the region.
-Status improve_space_part(RegionMesh& rm, const std::vector<int>& material_by_origin, const TetMesh& mesh,
-                          const DensityGrid* density, double density_scale, double quality_floor);
+/// 3.6 on a region that holds objects' tets (a contact zone): the tets of
+/// one material are improved as a region of their own
+/// (improve_deformed_region, their interfaces with the others fixed; tets
+/// around pinched vertices left out) and put back into the region.
+Status improve_material_part(RegionMesh& rm, int material, const std::vector<int>& material_by_origin,
+                             const TetMesh& mesh, const DensityGrid* density, double density_scale,
+                             double quality_floor);
+/// improve_material_part for every material of the region.
+Status improve_material_parts(RegionMesh& rm, const std::vector<int>& material_by_origin, const TetMesh& mesh,
+                              const DensityGrid* density, double density_scale, double quality_floor);
 
 /// What an AdaptSession keeps for contact (adapt_contact.cpp).
 struct AdaptContactState {

@@ -3,9 +3,10 @@
 // vertices, virtual collapses and insertions, and flips. Here the union of
 // both patches is triangulated once in the surface's 2D chart (3.4.2), with
 // the boundary lines of both patches as constraints and their crossings
-// inserted (3.5.4.2); the overlap's triangles are then shared by the two
-// objects by construction, and the contact area is that of the exact
-// overlap of the two patches.
+// inserted on the other object's edges (3.5.4.2); the overlap's triangles
+// are then shared by the two objects by construction, the other object's
+// surface keeps its geometry, and the contact area is that of the overlap
+// of the two patches.
 #include "adapt/contact.h"
 
 #include "geometry/predicates.h"
@@ -148,7 +149,10 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
       const Vec2 x = q[a] + t * r;
       const index_t id = static_cast<index_t>(global.size());
       global.push_back(first_new_id + static_cast<index_t>(out.new_points.size()));
-      out.new_points.push_back(chart.lift(x));
+      // On the other object's edge (its surface keeps its geometry; the
+      // moving object's boundary line crosses it within the chord sag).
+      const double tc_edge = std::clamp((x - q[c]).dot(q[d] - q[c]) / (q[d] - q[c]).squaredNorm(), 0.0, 1.0);
+      out.new_points.push_back((1 - tc_edge) * point(ec.first) + tc_edge * point(ec.second));
       q.push_back(x);
       owner.push_back(3);
       on_boundary.push_back(1);
@@ -161,9 +165,13 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
   // The points kept: every boundary point; the moving patch's inner points
   // outside the other patch and away from its boundary; the other patch's
   // inner points away from the moving patch's boundary.
-  const auto near_line = [&](const Vec2& x, const std::vector<Edge>& line) {
-    for (const Edge& e : line)
-      if (distance_to_segment(x, q[local[e.first]], q[local[e.second]]) < spacing) return true;
+  // Near a line and not exactly on it (a point on it splits it instead).
+  const auto near_line = [&](index_t i, const std::vector<Edge>& line, double reach) {
+    for (const Edge& e : line) {
+      const index_t a = local[e.first], b = local[e.second];
+      if (distance_to_segment(q[i], q[a], q[b]) >= reach) continue;
+      if (orient2d_sign(q[a], q[b], q[i]) != 0) return true;
+    }
     return false;
   };
   std::vector<index_t> cdt_id(global.size(), kInvalidIndex);
@@ -171,8 +179,10 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
   std::vector<index_t> pts_local;
   for (std::size_t i = 0; i < global.size(); ++i) {
     bool keep = on_boundary[i] != 0;
-    if (!keep && owner[i] == 1) keep = !in_c.contains(q[i], spacing) && !near_line(q[i], bc);
-    if (!keep && owner[i] == 2) keep = !near_line(q[i], bm);
+    if (!keep && owner[i] == 1) keep = !in_c.contains(q[i], spacing) && !near_line(static_cast<index_t>(i), bc, spacing);
+    // The other object's points move its surface when dropped: only those
+    // very close to the moving boundary go (they would make slivers).
+    if (!keep && owner[i] == 2) keep = !near_line(static_cast<index_t>(i), bm, 0.3 * spacing);
     if (!keep) continue;
     cdt_id[i] = static_cast<index_t>(pts.size());
     pts.push_back(q[i]);
