@@ -131,8 +131,9 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
   }
   // The goal: no step below the input's minimum stretch. A region that
   // ends below it is tried again in smaller sub-steps (the last halvings
-  // accept it).
-  if (keep_quality) {
+  // accept it). Not with contact: sub-steps leave more points on the
+  // contact surfaces, and the refill's quality does not grow with them.
+  if (keep_quality && zone.empty()) {
     double region_min = 0;
     stretch_range(rm.mesh, &region_min, nullptr);
     if (region_min < input_min_stretch_) {

@@ -180,13 +180,61 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
   for (std::size_t i = 0; i < global.size(); ++i) {
     bool keep = on_boundary[i] != 0;
     if (!keep && owner[i] == 1) keep = !in_c.contains(q[i], spacing) && !near_line(static_cast<index_t>(i), bc, spacing);
-    // The other object's points move its surface when dropped: only those
-    // very close to the moving boundary go (they would make slivers).
-    if (!keep && owner[i] == 2) keep = !near_line(static_cast<index_t>(i), bm, 0.3 * spacing);
+    // The other object's points near the moving boundary make slivers; on a
+    // curved surface dropping one moves the surface (a longer chord), so
+    // only those very close go there.
+    const double reach = surface.type == SurfaceType::Plane ? spacing : 0.3 * spacing;
+    if (!keep && owner[i] == 2) keep = !near_line(static_cast<index_t>(i), bm, reach);
     if (!keep) continue;
     cdt_id[i] = static_cast<index_t>(pts.size());
     pts.push_back(q[i]);
     pts_local.push_back(static_cast<index_t>(i));
+  }
+  // Inner points closer than the spacing to a point kept before them go
+  // (points the boundary lines of earlier steps left behind would make
+  // slivers), boundary points first.
+  {
+    std::unordered_map<std::uint64_t, std::vector<index_t>> bins;
+    const auto key2 = [&](const Vec2& x, int dx, int dy) {
+      const auto c = [&](double v, int d) {
+        return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / spacing)) + d) & 0xffffffff;
+      };
+      return (c(x.x(), dx) << 32) | c(x.y(), dy);
+    };
+    std::vector<index_t> order(pts_local.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<index_t>(k);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](index_t a, index_t b) { return on_boundary[pts_local[a]] > on_boundary[pts_local[b]]; });
+    std::vector<std::uint8_t> drop(pts_local.size(), 0);
+    for (const index_t k : order) {
+      const Vec2& x = pts[k];
+      if (!on_boundary[pts_local[k]]) {
+        bool close = false;
+        for (int dx = -1; dx <= 1 && !close; ++dx)
+          for (int dy = -1; dy <= 1 && !close; ++dy) {
+            const auto it = bins.find(key2(x, dx, dy));
+            if (it == bins.end()) continue;
+            for (const index_t j : it->second)
+              if ((pts[j] - x).norm() < spacing) close = true;
+          }
+        if (close) {
+          drop[k] = 1;
+          continue;
+        }
+      }
+      bins[key2(x, 0, 0)].push_back(k);
+    }
+    std::vector<Vec2> kept_pts;
+    std::vector<index_t> kept_local;
+    std::fill(cdt_id.begin(), cdt_id.end(), kInvalidIndex);
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      if (drop[k]) continue;
+      cdt_id[pts_local[k]] = static_cast<index_t>(kept_pts.size());
+      kept_pts.push_back(pts[k]);
+      kept_local.push_back(pts_local[k]);
+    }
+    pts = std::move(kept_pts);
+    pts_local = std::move(kept_local);
   }
   // Segments: both boundary lines, split at their crossings.
   std::vector<Segment2> segments;

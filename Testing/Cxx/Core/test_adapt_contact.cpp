@@ -342,6 +342,7 @@ TEST(AdaptContact, CylinderSlidesInAndBackOut) {
     return testing::cylinder_half_tube_contact_area(g, s[n - 1]).discrete;
   });
   EXPECT_EQ(run.steps, static_cast<int>(s.size()));
+  EXPECT_GE(run.worst_stretch, 0.05);
 }
 
 // Partly in, then turning about its own axis: the contact stays (the half
@@ -365,6 +366,54 @@ TEST(AdaptContact, CylinderTurnsInsideHalfTube) {
     return testing::cylinder_half_tube_contact_area(g, depth * std::min(n, 5) / 5).discrete;
   });
   EXPECT_EQ(run.steps, static_cast<int>(motion.table.size()));
+  EXPECT_GE(run.worst_stretch, 0.05);
+}
+
+// A block lowered onto a plate, then slid along it: planar contact (the
+// plane's chart), the block's bottom face shared with the plate.
+TEST(AdaptContact, BlockLandsOnPlateAndSlides) {
+  testing::MaterialMesh mm = testing::make_block_in_box({{10, 10, 8}}, {{2, 2, 2}}, 1.0, 0.0, 1, {{3, 4, 4}});
+  for (std::size_t t = 0; t < mm.tets.size(); ++t) {
+    Vec3 c = Vec3::Zero();
+    for (const index_t v : mm.tets[t]) c += mm.points[v] / 4;
+    if (c.x() > 1 && c.x() < 9 && c.y() > 2 && c.y() < 8 && c.z() > 2 && c.z() < 3) mm.material[t] = 2;
+  }
+  RigidMotion motion;
+  for (int n = 1; n <= 10; ++n) {
+    RigidPose p;
+    p.t = n <= 4 ? Vec3(0, 0, -0.25 * n) : Vec3(0.25 * (n - 4), 0, -1);
+    motion.table.push_back(p);
+  }
+  AdaptOptions options;
+  options.moving_object = 1;
+  AdaptSession session;
+  const Status s = session.init(mm.points, mm.tets, mm.material, motion, options);
+  ASSERT_TRUE(s) << s.message;
+  for (int n = 1; n <= 10; ++n) {
+    AdaptStepReport report;
+    const Status st = session.advance(&report);
+    ASSERT_TRUE(st) << "step " << n << ": " << st.message;
+    const AdaptOutput out = session.output();
+    const ValidityReport v = check_validity(out.points, out.tets);
+    ASSERT_TRUE(v.ok()) << "step " << n << ": " << v.summary();
+    EXPECT_NEAR(contact_area(out, 1, 2), n >= 4 ? 4.0 : 0.0, 1e-9) << "step " << n;
+    EXPECT_NEAR(signed_volume(out.points, out.tets, out.material, 1), 8.0, 1e-9) << "step " << n;
+    EXPECT_NEAR(signed_volume(out.points, out.tets, out.material, 2), 48.0, 1e-9) << "step " << n;
+    // The block's vertices, mapped back, in its initial box.
+    const RigidPose back = motion.pose(n).inverse();
+    for (std::size_t t = 0; t < out.tets.size(); ++t)
+      if (out.material[t] == 1)
+        for (const index_t p : out.tets[t]) {
+          const Vec3 x = back.apply(out.points[p]);
+          EXPECT_TRUE((x.array() >= Eigen::Array3d(3, 4, 4) - 1e-9).all() &&
+                      (x.array() <= Eigen::Array3d(5, 6, 6) + 1e-9).all())
+              << "step " << n << ": a block vertex outside its box at " << x.transpose();
+        }
+    EXPECT_GE(report.min_stretch, 0.1) << "step " << n;
+    std::printf("block on plate, step %d: %zu points, min stretch %.3f, %.3f s\n", n, out.points.size(),
+                report.min_stretch, report.seconds);
+    if (::testing::Test::HasFailure()) return;
+  }
 }
 
 }  // namespace
