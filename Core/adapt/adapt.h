@@ -9,6 +9,12 @@
 //                            inner vertices (3.5.3, Eqs. 3.1-3.2)
 //   improve_deformed_region  Improve's Phased ODT on K_Df (3.6)
 // chained by adapt_step; AdaptSession keeps the state between steps.
+// With contact (contact.h, adapt_contact.cpp), the step also:
+//   detect_contacts          pairs of object regions on one surface (3.4.2)
+//   contact_zone             the tets removed around the contact (3.5.2)
+//   merge_contact_surfaces   one surface for the two patches (3.5.4)
+//   tetrahedralize_hole      TetGen's refill of the zone (3.5.5)
+//   improve_material_part    3.6 on each material of the region
 #pragma once
 
 #include "common/types.h"

@@ -101,13 +101,12 @@ std::vector<ContactRegion> AdaptSession::contacts_at(const RigidPose& to) const 
       if (b.material != info.material) continue;
       const auto fixed = [&](index_t v) { return mesh_.point(v); };
       const std::vector<index_t> region = classify_object_faces(fixed, b.faces, info.regions, st.tolerance);
+      // Objects about to touch (within one spacing) count: their zone is
+      // removed before the gap closes (3.5.2).
       std::vector<ContactRegion> c = detect_contacts(moved, *moving, moving_region, posed, mesh_.points(), b, region,
-                                                     info.regions, st.tolerance, std::max(info.scale, st.moving.scale), st.spacing);
-      for (ContactRegion& r : c) {
-        // Faces in ids: the patches are rebuilt from the zone later; keep
-        // the vertices (the zone's seeds).
-        out.push_back(std::move(r));
-      }
+                                                     info.regions, st.tolerance, std::max(info.scale, st.moving.scale),
+                                                     st.spacing);
+      for (ContactRegion& r : c) out.push_back(std::move(r));
     }
   }
   return out;
@@ -337,7 +336,6 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
   all.insert(all.end(), merged_faces.begin(), merged_faces.end());
   std::vector<Tet> tets;
   std::vector<int> material;
-  const std::size_t before_fill = points.size();
   Status s = tetrahedralize_hole(points, all, 1.4, tets, material);
   if (!s) return Status::failure("the contact zone could not be refilled: " + s.message);
   // Into the region mesh: existing slots keep their ids, the rest are new.
@@ -353,7 +351,6 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
     if (it == origin_of.end()) return Status::failure("the contact zone's refill has a material the zone had not");
     origins.push_back(it->second);
   }
-  (void)before_fill;
   const std::vector<Vec3> new_points(points.begin() + slots, points.end());
   const std::vector<VertexStencil> new_origins(new_points.size());
   s = sub.replace_cavity(zone, new_tets, origins, new_points, new_origins);

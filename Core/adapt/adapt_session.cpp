@@ -118,9 +118,6 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
     if (mesh_.on_boundary(v))
       return Status::failure("the moving object (material " + std::to_string(options.moving_object) +
                              ") touches the domain's outer boundary: it could not move without changing it");
-    if (on_other[v])
-      return Status::failure("the moving object (material " + std::to_string(options.moving_object) +
-                             ") shares vertices with another object: objects in contact are not supported yet");
     if (on_surface[v]) {
       surface.push_back(mesh_.point(v));
       object_surface_.push_back(v);
@@ -172,7 +169,17 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
   input_vertices_ = mesh_.live_vertices();
   input_min_stretch_ = input_min;
   quality_floor_ = options.quality_floor > 0 ? options.quality_floor : std::clamp(1.1 * input_min, 0.1, 0.4);
-  return init_contact();
+  const Status contact = init_contact();
+  if (!contact) return contact;
+  // Objects in contact at step 0: the shared vertices stay with the other
+  // object (the first step's contact zone takes them).
+  if (std::any_of(object_vertices_.begin(), object_vertices_.end(), [&](index_t v) { return on_other[v] != 0; })) {
+    std::vector<index_t> all_vertices;
+    for (index_t v = 0; v < nv; ++v)
+      if (mesh_.vertex_alive(v)) all_vertices.push_back(v);
+    rebuild_object_vertices(all_vertices, RigidPose());
+  }
+  return Status::success();
 }
 
 void AdaptSession::refresh_stretch(const std::vector<index_t>& removed, const std::vector<index_t>& added) {

@@ -416,5 +416,33 @@ TEST(AdaptContact, BlockLandsOnPlateAndSlides) {
   }
 }
 
+// Objects in contact at step 0 (the output of a run re-read as an input):
+// the shared vertices stay with the tube, the cylinder slides on.
+TEST(AdaptContact, ContactAtTheStart) {
+  const testing::CylinderHalfTube g;
+  const testing::MaterialMesh mm = testing::make_cylinder_half_tube(g);
+  RigidMotion motion;
+  motion.translation_per_step = Vec3(0, 0, 0.25);
+  AdaptOptions options;
+  options.moving_object = 1;
+  AdaptSession first;
+  ASSERT_TRUE(first.init(mm.points, mm.tets, mm.material, motion, options));
+  for (int n = 0; n < 8; ++n) ASSERT_TRUE(first.advance());
+  const AdaptOutput start = first.output();
+  ASSERT_GT(contact_area(start, 1, 2), 0);
+  AdaptSession session;
+  const Status s = session.init(start.points, start.tets, start.material, motion, options);
+  ASSERT_TRUE(s) << s.message;
+  for (int n = 1; n <= 4; ++n) {
+    const Status st = session.advance();
+    ASSERT_TRUE(st) << "step " << n << ": " << st.message;
+    const AdaptOutput out = session.output();
+    const ValidityReport v = check_validity(out.points, out.tets);
+    ASSERT_TRUE(v.ok()) << "step " << n << ": " << v.summary();
+    const double want = testing::cylinder_half_tube_contact_area(g, (8 + n) * 0.25).discrete;
+    EXPECT_NEAR(contact_area(out, 1, 2), want, 0.01 * want) << "step " << n;
+  }
+}
+
 }  // namespace
 }  // namespace femorph
