@@ -8,14 +8,8 @@
 #pragma once
 
 #include "adapt/adapt.h"
+#include "adapt/tetgen_plc.h"
 #include "common/types.h"
-
-// TetGen's library API (femorph_core is built with the same define: its
-// inline terminatetetgen throws instead of calling exit()).
-#ifndef TETLIBRARY
-#define TETLIBRARY
-#endif
-#include <tetgen.h>
 
 #include <algorithm>
 #include <array>
@@ -283,44 +277,8 @@ inline Vec3 polar(double rho, long k, long n, double z) {
 /// the surface), radius-edge ratio bounded inside. The surface points come
 /// first, in order.
 inline Status tetrahedralize_surface(const SurfaceBuilder& s, std::vector<Vec3>& points, std::vector<Tet>& tets) {
-  tetgenio in, out;
-  in.firstnumber = 0;
-  in.numberofpoints = static_cast<int>(s.points.size());
-  in.pointlist = new REAL[3 * s.points.size()];
-  for (std::size_t i = 0; i < s.points.size(); ++i)
-    for (int a = 0; a < 3; ++a) in.pointlist[3 * i + a] = s.points[i][a];
-  in.numberoffacets = static_cast<int>(s.triangles.size());
-  in.facetlist = new tetgenio::facet[s.triangles.size()];
-  for (std::size_t f = 0; f < s.triangles.size(); ++f) {
-    tetgenio::facet& F = in.facetlist[f];
-    tetgenio::init(&F);
-    F.numberofpolygons = 1;
-    F.polygonlist = new tetgenio::polygon[1];
-    tetgenio::init(&F.polygonlist[0]);
-    F.polygonlist[0].numberofvertices = 3;
-    F.polygonlist[0].vertexlist = new int[3];
-    for (int k = 0; k < 3; ++k) F.polygonlist[0].vertexlist[k] = s.triangles[f][k];
-  }
-  char switches[] = "pYq1.4Q";
-  try {
-    tetrahedralize(switches, &in, &out);
-  } catch (...) {
-    return Status::failure("make_cylinder_half_tube: TetGen failed on an object surface");
-  }
-  points.clear();
-  tets.clear();
-  for (int i = 0; i < out.numberofpoints; ++i) {
-    points.emplace_back(out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]);
-    if (i < in.numberofpoints && points.back() != s.points[static_cast<std::size_t>(i)])
-      return Status::failure("make_cylinder_half_tube: TetGen reordered the surface points");
-  }
-  for (int t = 0; t < out.numberoftetrahedra; ++t) {
-    Tet T;
-    for (int k = 0; k < 4; ++k) T[k] = out.tetrahedronlist[out.numberofcorners * t + k];
-    const Vec3 &a = points[T[0]], &b = points[T[1]], &c = points[T[2]], &d = points[T[3]];
-    if ((b - a).dot((c - a).cross(d - a)) < 0) std::swap(T[0], T[1]);
-    tets.push_back(T);
-  }
+  const Status st = internal::tetgen_plc(s.points, s.triangles, {}, "pYq1.4Q", points, tets);
+  if (!st) return Status::failure("make_cylinder_half_tube: TetGen failed on an object surface: " + st.message);
   return Status::success();
 }
 
