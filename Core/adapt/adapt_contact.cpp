@@ -285,6 +285,15 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
     }
     moving_patch[k] = std::move(trimmed);
   }
+  // The other object's vertices may slide in the merge where no kept tet
+  // holds them (off the zone's boundary).
+  std::vector<std::uint8_t> on_hole_boundary(points.size(), 0);
+  for (const HoleFacet& f : facets)
+    if (f.front < 0 || f.back < 0)
+      for (const index_t v : f.v) on_hole_boundary[v] = 1;
+  const auto movable = [&](index_t v) {
+    return v < static_cast<index_t>(on_hole_boundary.size()) && !on_hole_boundary[v];
+  };
   std::vector<HoleFacet> merged_faces;
   std::map<std::pair<index_t, index_t>, std::vector<index_t>> split;
   std::map<index_t, index_t> replaced;
@@ -294,7 +303,7 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
     const auto at = [&points](index_t v) { return points[v]; };
     const Status s = merge_contact_surfaces(contacts[k].surface, moving_patch[k], other_patch[k], at, moving,
                                             contacts[k].other_material, 0, static_cast<index_t>(points.size()),
-                                            0.3 * contact_->spacing, merged);
+                                            0.3 * contact_->spacing, merged, movable);
     if (!s) return s;
     points.insert(points.end(), merged.new_points.begin(), merged.new_points.end());
     merged_faces.insert(merged_faces.end(), merged.faces.begin(), merged.faces.end());

@@ -88,8 +88,9 @@ struct MergedContact {
   /// (min id, max id): the points in order from the min id to the max id.
   std::map<std::pair<index_t, index_t>, std::vector<index_t>> split_edges;
   double contact_area = 0;       ///< area of the faces between the two objects
-  /// Moving-patch vertices at the position of an other-patch vertex (to
-  /// 1e-9 of the spacing): the other's vertex replaces them everywhere.
+  /// Vertices replaced everywhere: moving-patch vertices at the position of
+  /// an other-patch vertex (to 1e-9 of the spacing) by it, other-patch
+  /// boundary vertices slid onto a moving one by that one.
   std::map<index_t, index_t> replaced;
 };
 
@@ -102,12 +103,16 @@ struct MergedContact {
 /// patch's boundary (closer than `spacing`). Each face gets its sides:
 /// contact faces moving | other, the rest object | `space_material`. The two
 /// patches must not share vertex ids (the caller gives the moving object's
-/// shared vertices new ids). Fails, saying why, on patches that wrap around
-/// their surface or boundary lines that cannot be kept.
+/// shared vertices new ids). An other-patch boundary point closer than 0.3
+/// spacing to a moving boundary point on its line is replaced by it (it
+/// slides along its line) when `movable` says it may (not on the zone's
+/// boundary). Fails, saying why, on patches that wrap around their surface
+/// or boundary lines that cannot be kept.
 Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector<Tri>& moving_faces,
                               const std::vector<Tri>& other_faces, const std::function<Vec3(index_t)>& point,
                               int moving_material, int other_material, int space_material, index_t first_new_id,
-                              double spacing, MergedContact& out);
+                              double spacing, MergedContact& out,
+                              const std::function<bool(index_t)>& movable = {});
 
 struct DensityGrid;
 /// 3.6 on a region that holds objects' tets (a contact zone): the tets of

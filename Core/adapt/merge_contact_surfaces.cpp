@@ -49,7 +49,7 @@ double distance_to_segment(const Vec2& q, const Vec2& a, const Vec2& b) {
 Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector<Tri>& moving_faces,
                               const std::vector<Tri>& other_faces, const std::function<Vec3(index_t)>& point,
                               int moving_material, int other_material, int space_material, index_t first_new_id,
-                              double spacing, MergedContact& out) {
+                              double spacing, MergedContact& out, const std::function<bool(index_t)>& movable) {
   out = MergedContact();
   if (moving_faces.empty() || other_faces.empty()) return Status::failure("merge_contact_surfaces: an empty patch");
   // The chart, centred on the other patch.
@@ -63,7 +63,8 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
   std::vector<index_t> global;
   std::vector<Vec2> q;
   std::vector<std::uint8_t> owner;  // 1 moving, 2 other, 3 new
-  std::set<index_t> targets;        // other vertices that replace moving ones
+  std::vector<Tri> other = other_faces;
+  std::set<index_t> targets;        // ids both patches use
   const auto take = [&](const std::vector<Tri>& faces, std::uint8_t who) -> Status {
     for (const Tri& f : faces) {
       for (const index_t v : f) {
@@ -86,6 +87,40 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
     }
     return Status::success();
   };
+  // A boundary point of the other patch next to a boundary point of the
+  // moving patch that lies on its boundary line (closer than 0.3 spacing)
+  // would leave a tiny edge (where a moving feature line ends on the
+  // other's, e.g. a cap edge on a half tube's edge): the other's point
+  // slides along its line onto the moving one, when `movable` allows.
+  if (movable) {
+    const std::vector<Edge> bm0 = patch_boundary(moving_faces), bc0 = patch_boundary(other_faces);
+    std::map<index_t, index_t> snap;
+    for (const Edge& em : bm0)
+      for (const index_t vm : {em.first, em.second}) {
+        const Vec2 x = chart.map(point(vm));
+        for (const Edge& ec : bc0) {
+          const Vec2 a = chart.map(point(ec.first));
+          const Vec2 b = chart.unwrap(chart.map(point(ec.second)), a);
+          const Vec2 y = chart.unwrap(x, a);
+          if (orient2d_sign(a, b, y) != 0) continue;
+          const double t = (y - a).dot(b - a) / (b - a).squaredNorm();
+          if (!(t > 0 && t < 1)) continue;
+          const index_t near = t < 0.5 ? ec.first : ec.second;
+          const double d = (t < 0.5 ? t : 1 - t) * (b - a).norm();
+          if (d >= 0.3 * spacing || snap.count(near) || !movable(near)) continue;
+          snap[near] = vm;
+        }
+      }
+    for (Tri& f : other)
+      for (index_t& v : f) {
+        const auto it = snap.find(v);
+        if (it != snap.end()) v = it->second;
+      }
+    for (const auto& [c, m] : snap) {
+      out.replaced[c] = m;
+      targets.insert(m);
+    }
+  }
   // Moving vertices on other vertices become them.
   std::unordered_map<std::uint64_t, std::vector<index_t>> grid;
   const double cell = std::max(spacing, 1e-300);
@@ -93,7 +128,7 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
     const auto c = [&](double x, int d) { return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x / cell)) + d) & 0x1fffff; };
     return (c(p.x(), dx) << 42) | (c(p.y(), dy) << 21) | c(p.z(), dz);
   };
-  for (const Tri& f : other_faces)
+  for (const Tri& f : other)
     for (const index_t v : f) {
       auto& bin = grid[cell_key(point(v), 0, 0, 0)];
       if (std::find(bin.begin(), bin.end(), v) == bin.end()) bin.push_back(v);
@@ -122,17 +157,17 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
         v = hit;
       }
     }
-  Status s = take(other_faces, 2);
+  Status s = take(other, 2);
   if (s) s = take(moving, 1);
   if (!s) return s;
-  const std::vector<Edge> bm = patch_boundary(moving), bc = patch_boundary(other_faces);
+  const std::vector<Edge> bm = patch_boundary(moving), bc = patch_boundary(other);
   std::vector<std::uint8_t> on_boundary(global.size(), 0);
   for (const Edge& e : bm) on_boundary[local[e.first]] = on_boundary[local[e.second]] = 1;
   for (const Edge& e : bc) on_boundary[local[e.first]] = on_boundary[local[e.second]] = 1;
 
   ChartTriangles in_m(chart, spacing), in_c(chart, spacing);
   for (const Tri& f : moving) in_m.add({{q[local[f[0]]], q[local[f[1]]], q[local[f[2]]]}});
-  for (const Tri& f : other_faces) in_c.add({{q[local[f[0]]], q[local[f[1]]], q[local[f[2]]]}});
+  for (const Tri& f : other) in_c.add({{q[local[f[0]]], q[local[f[1]]], q[local[f[2]]]}});
 
   // Crossings of the two boundary lines (3.5.4.2): new points on both.
   std::map<Edge, std::vector<std::pair<double, index_t>>> on_edge;  // local ids
@@ -261,7 +296,7 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
 
   // Which side is each object on: the other's outward faces point along
   // sign_c times the surface normal.
-  const Tri& f0 = other_faces[0];
+  const Tri& f0 = other[0];
   const Vec3 n0 = (point(f0[1]) - point(f0[0])).cross(point(f0[2]) - point(f0[0]));
   const double sign_c = n0.dot(surface_normal(surface, (point(f0[0]) + point(f0[1]) + point(f0[2])) / 3)) >= 0 ? 1 : -1;
   const Tri& g0 = moving[0];
