@@ -268,7 +268,9 @@ class AdaptSession {
   // at a pose, the zone removed around them, its refill in the region, the
   // moving object's vertex lists after a refill changed them.
   Status init_contact();
-  std::vector<ContactRegion> contacts_at(const RigidPose& to) const;
+  std::vector<ContactRegion> contacts_at(const RigidPose& to) const;  ///< cached find_contacts
+  std::vector<ContactRegion> find_contacts(const RigidPose& to) const;
+  std::size_t mesh_version_ = 0;  ///< counts the changes of mesh_ (contacts_at's cache)
   std::vector<index_t> contact_zone(const std::vector<ContactRegion>& contacts) const;
   Status remesh_contact_zone(RegionMesh& rm, const std::vector<index_t>& zone,
                              const std::vector<ContactRegion>& contacts, const RigidPose& to);

@@ -65,6 +65,17 @@ Status AdaptSession::init_contact() {
 std::vector<ContactRegion> AdaptSession::contacts_at(const RigidPose& to) const {
   std::vector<ContactRegion> out;
   if (!contact_) return out;
+  AdaptContactState& st = *contact_;
+  if (st.cached_version == mesh_version_ && st.cached_pose.R == to.R && st.cached_pose.t == to.t) return st.cached;
+  out = find_contacts(to);
+  st.cached_pose = to;
+  st.cached_version = mesh_version_;
+  st.cached = out;
+  return out;
+}
+
+std::vector<ContactRegion> AdaptSession::find_contacts(const RigidPose& to) const {
+  std::vector<ContactRegion> out;
   const AdaptContactState& st = *contact_;
   // The moving object's box at the new pose (its corners), with a margin.
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;

@@ -259,6 +259,7 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
   for (std::size_t k = 0; k < object_vertices_.size(); ++k)
     mesh_.set_point(object_vertices_[k], to.apply(object_rest_[k]));
   pose_ = to;
+  ++mesh_version_;
   report.seconds_splice += since();
   return Status::success();
 }
@@ -332,6 +333,7 @@ Status AdaptSession::advance(AdaptStepReport* report_out) {
     step_origin_ = std::move(last_step_origin);
     if (halvings > 0) {
       mesh_ = std::move(saved_mesh);
+      ++mesh_version_;
       stretch_ = std::move(saved_stretch);
       pose_ = saved_pose;
     }

@@ -135,6 +135,11 @@ struct AdaptContactState {
   double tolerance = 0;                     ///< on surfaces, lengths
   double spacing = 0;                       ///< the objects' mean surface edge
   std::vector<index_t> shared;              ///< vertices of the moving object and another
+  /// The last contacts_at() answer, for the same pose and mesh (a step
+  /// asks twice: the penetration check and the step itself).
+  RigidPose cached_pose;
+  std::size_t cached_version = static_cast<std::size_t>(-1);
+  std::vector<ContactRegion> cached;
 };
 
 /// A primitive moved by a rigid pose.
