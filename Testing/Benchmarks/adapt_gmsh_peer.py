@@ -33,6 +33,22 @@ the same position in the previous row's mesh, all of them and the inner
 ones (not on the box); then the median seconds per step over the sampled
 steps. --out-dir writes each step as step_NNNN.vtu (MaterialId 1 on the
 block, 0 in space), for Testing/Python/adapt_check.py --object-remeshed.
+
+--case cylinder-half-tube: thesis 3.7.3's contact case, as
+Testing/Cxx/test_adapt_meshes.h's make_cylinder_half_tube: a cylinder of
+radius --r and length --Lc, its front cap at z = -gap + n translation at
+step n, and a half tube (y <= 0, radii r to --R, z in [0, Lt]) in the box
+|x|, |y| <= R + margin, z from -Lc - gap - margin to max(Lt, travel - gap) +
+margin; the three volumes fragmented (the cylinder's side shares the tube's
+inner surface where they touch: a conformal contact). Sizes: --size on the
+cylinder and the tube, growing to --size-box at the box (a distance
+threshold field over the margin). Rows at step --first-step (untimed in the
+median) and the --steps steps every --stride after it; MaterialId 1 the
+cylinder, 2 the tube, 0 space; the contact area (faces shared by 1 and 2).
+
+    /usr/bin/python3 Testing/Benchmarks/adapt_gmsh_peer.py --case cylinder-half-tube \
+        --r 5 --R 8 --Lc 20 --Lt 45 --gap 0.5 --margin 4 --travel 45 --size 0.55 \
+        --size-box 2.2 --first-step 21 --steps 3 --stride 1
 """
 
 import argparse
@@ -192,6 +208,173 @@ def calibrate(case, target):
     return s3, [(s1, n1), (s2, n2)]
 
 
+class CylinderHalfTube:
+    """Thesis 3.7.3: the cylinder (moving, 1 per step along z by default)
+    and the half tube in their box."""
+
+    def __init__(self, args):
+        self.r, self.R, self.Lc, self.Lt = args.r, args.R, args.Lc, args.Lt
+        self.gap, self.margin = args.gap, args.margin
+        self.translation = args.translation
+        travel = args.travel if args.travel >= 0 else args.Lt + args.gap
+        w = self.R + self.margin
+        z0 = -self.Lc - self.gap
+        self.lo = np.array([-w, -w, z0 - self.margin])
+        self.hi = np.array([w, w, max(self.Lt, -self.gap + travel) + self.margin])
+        self.travel = travel
+
+    def front(self, n):
+        return -self.gap + n * self.translation
+
+    def build(self, n):
+        """The box, cylinder and half tube at step n, fragmented; returns
+        {volume tag: material}."""
+        occ = gmsh.model.occ
+        gmsh.model.add(f"step{n}")
+        box = occ.addBox(*self.lo, *(self.hi - self.lo))
+        front = self.front(n)
+        cyl = occ.addCylinder(0, 0, front - self.Lc, 0, 0, self.Lc, self.r)
+        outer = occ.addCylinder(0, 0, 0, 0, 0, self.Lt, self.R)
+        inner = occ.addCylinder(0, 0, 0, 0, 0, self.Lt, self.r)
+        ring, _ = occ.cut([(3, outer)], [(3, inner)])
+        half = occ.addBox(-2 * self.R, -2 * self.R, -1, 4 * self.R, 2 * self.R, self.Lt + 2)  # y <= 0
+        tube, _ = occ.intersect(ring, [(3, half)])
+        _, pieces = occ.fragment([(3, box)], [(3, cyl)] + tube)
+        occ.synchronize()
+        material = {}
+        for dim, tag in pieces[0]:
+            material[tag] = 0
+        for dim, tag in pieces[1]:
+            material[tag] = 1
+        for piece in pieces[2:]:
+            for dim, tag in piece:
+                material[tag] = 2
+        vols = [tag for _, tag in gmsh.model.getEntities(3)]
+        assert set(vols) == set(material), f"step {n}: volumes {vols}, pieces {material}"
+        return material
+
+
+def set_sizes(material, size, size_box, distance):
+    """--size on the objects' surfaces, growing to size_box at `distance`."""
+    surfaces = set()
+    for tag, m in material.items():
+        if m:
+            for dim, s in gmsh.model.getBoundary([(3, tag)], oriented=False):
+                surfaces.add(s)
+    field = gmsh.model.mesh.field
+    d = field.add("Distance")
+    # (Gmsh 4.8 names the surfaces FacesList; later ones SurfacesList.)
+    try:
+        field.setNumbers(d, "SurfacesList", sorted(surfaces))
+    except Exception:  # noqa: BLE001 (gmsh raises a plain Exception)
+        field.setNumbers(d, "FacesList", sorted(surfaces))
+    t = field.add("Threshold")
+    field.setNumber(t, "InField", d)
+    field.setNumber(t, "SizeMin", size)
+    field.setNumber(t, "SizeMax", size_box)
+    field.setNumber(t, "DistMin", 0)
+    field.setNumber(t, "DistMax", distance)
+    field.setAsBackgroundMesh(t)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", size)
+    gmsh.option.setNumber("Mesh.MeshSizeMax", size_box)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+
+
+def extract_materials(material):
+    """Points, tets (positively oriented) and material of the current mesh."""
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
+    index[tags.astype(np.int64)] = np.arange(len(tags))
+    points = coords.reshape(-1, 3)
+    tets, mats = [], []
+    for _, vol in gmsh.model.getEntities(3):
+        types, _, nodes = gmsh.model.mesh.getElements(3, vol)
+        for typ, nd in zip(types, nodes):
+            if typ == GMSH_TET:
+                t = index[nd.astype(np.int64)].reshape(-1, 4)
+                tets.append(t)
+                mats.append(np.full(len(t), material[vol], dtype=np.int32))
+    tets = np.vstack(tets)
+    mats = np.concatenate(mats)
+    used = np.unique(tets)
+    remap = np.full(len(points), -1, dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    points, tets = points[used], remap[tets]
+    flip = signed_volumes(points, tets) < 0
+    tets[flip] = tets[flip][:, [0, 2, 1, 3]]
+    return points, tets, mats
+
+
+def shared_area(points, tets, mats, a, b):
+    """Area of the faces shared by a tet of material a and one of b."""
+    faces = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
+
+    def keyed(m):
+        f = np.sort(tets[mats == m][:, faces].reshape(-1, 3), axis=1)
+        return set(map(tuple, f.tolist()))
+    common = np.array(sorted(keyed(a) & keyed(b)), dtype=np.int64).reshape(-1, 3)
+    if not len(common):
+        return 0.0
+    p = points[common]
+    return float(0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1).sum())
+
+
+def run_cylinder_half_tube(args):
+    case = CylinderHalfTube(args)
+    steps = [args.first_step + k * args.stride for k in range(args.steps + 1)]
+    if max(case.front(n) for n in steps) > case.hi[2] - case.margin + 1e-9:
+        print(f"the cylinder leaves the box's travel ({case.travel:g}) before step {steps[-1]}",
+              file=sys.stderr)
+        return 2
+    size = args.size if args.size else 2 * case.r * math.sin(math.pi / 64)
+    size_box = args.size_box if args.size_box else 4 * size
+    gmsh.initialize(["adapt_gmsh_peer"], readConfigFiles=False)
+    try:
+        set_options(args.threads)
+        print(f"3.7.3 cylinder r {case.r:g} length {case.Lc:g} into half tube R {case.R:g} length "
+              f"{case.Lt:g} (gap {case.gap:g}, {case.translation:g} per step), box "
+              f"{case.lo.tolist()} to {case.hi.tolist()}; size {size:.4f} on the objects, "
+              f"{size_box:.4f} at the box; steps {steps[0]} (untimed) and {steps[1:]}; "
+              f"Gmsh {gmsh.__version__}, {args.threads} thread(s)"
+              + (f"; FEMorph's input {args.target_tets} tets" if args.target_tets else ""))
+        tol = 1e-9 * float(np.linalg.norm(case.hi - case.lo))
+        print(f"{'step':>5} {'tets':>8} {'vertices':>8} {'geom s':>7} {'mesh s':>7} {'total s':>7} "
+              f"{'min stretch':>11} {'mean':>6} {'contact':>9} {'kept %':>7} {'kept inner %':>12}")
+        previous = None
+        totals = []
+        for i, n in enumerate(steps):
+            gmsh.clear()
+            start = time.perf_counter()
+            material = case.build(n)
+            set_sizes(material, size, size_box, case.margin)
+            geom = time.perf_counter() - start
+            gmsh.model.mesh.generate(3)
+            total = time.perf_counter() - start
+            points, tets, mats = extract_materials(material)
+            s = stretch(points, tets)
+            area = shared_area(points, tets, mats, 1, 2)
+            keys = np.round(points / tol).astype(np.int64)
+            on_box = np.any((np.abs(points - case.lo) <= tol) | (np.abs(points - case.hi) <= tol), axis=1)
+            if previous is None:
+                kept = kept_inner = "-"
+            else:
+                same = np.array([tuple(k) in previous for k in keys.tolist()])
+                kept = f"{100.0 * same.mean():.2f}"
+                kept_inner = f"{100.0 * same[~on_box].mean():.2f}"
+            previous = coordinate_keys(points, tol)
+            if i:
+                totals.append(total)
+            print(f"{n:>5} {len(tets):>8} {len(points):>8} {geom:>7.3f} {total - geom:>7.3f} "
+                  f"{total:>7.3f} {s.min():>11.4f} {s.mean():>6.4f} {area:>9.3f} {kept:>7} {kept_inner:>12}",
+                  flush=True)
+        if totals:
+            print(f"median s/step {float(np.median(totals)):.3f} over {len(totals)} steps "
+                  f"(mean {float(np.mean(totals)):.3f})")
+    finally:
+        gmsh.finalize()
+    return 0
+
+
 def coordinate_keys(points, tol):
     return set(map(tuple, np.round(points / tol).astype(np.int64).tolist()))
 
@@ -214,7 +397,21 @@ def main():
                         help="mesh size (default: calibrated to 12 tets per cube)")
     parser.add_argument("--threads", type=int, default=1, help="Gmsh threads (default 1)")
     parser.add_argument("--out-dir", default=None, help="write step_NNNN.vtu here")
+    parser.add_argument("--case", choices=("block", "cylinder-half-tube"), default="block",
+                        help="thesis 3.7.2's block (default) or 3.7.3's cylinder into a half tube")
+    for name, default, what in (("r", 5.0, "cylinder radius = tube inner radius"),
+                                ("R", 8.0, "tube outer radius"), ("Lc", 20.0, "cylinder length"),
+                                ("Lt", 45.0, "tube length"), ("gap", 0.5, "front cap to tube at step 0"),
+                                ("margin", 4.0, "space around the objects' path"),
+                                ("travel", -1.0, "the box holds this travel (< 0: Lt + gap)"),
+                                ("translation", 1.0, "along z per step")):
+        parser.add_argument(f"--{name}", type=float, default=default, help=f"3.7.3: {what} ({default:g})")
+    parser.add_argument("--size-box", type=float, default=None, help="3.7.3: size at the box (4 x --size)")
+    parser.add_argument("--first-step", type=int, default=0, help="3.7.3: first (untimed) row's step")
+    parser.add_argument("--target-tets", type=int, default=0, help="3.7.3: FEMorph's input tets, printed")
     args = parser.parse_args()
+    if args.case == "cylinder-half-tube":
+        return run_cylinder_half_tube(args)
 
     last = args.steps * args.stride
     case = Case(args.cells, args.object, args.edge, args.object_at, args.path_steps)
