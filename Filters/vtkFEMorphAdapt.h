@@ -11,13 +11,19 @@
  * grid G_d that moves with the object) is re-embedded by 3D mean value
  * coordinates (3.5.3, Eqs. 3.1-3.2) and improved by FEMorph Improve's core
  * (3.6); the rest of the mesh does not change. A step that would invert
- * tetrahedra is split into sub-steps. The algorithm is femorph_core's
+ * tetrahedra is split into sub-steps. Contact (3.4.2, 3.5.2, 3.5.4-3.5.5,
+ * 3.7.3): objects that touch or slide on each other along the same analytic
+ * surface (plane, cylinder, cone, sphere, torus) get a conformal contact
+ * surface each step (every contact triangle a face of one tetrahedron of
+ * each object), also when they touch in the input. Not supported yet:
+ * contacts wrapping all around a surface (a shaft in a full hole), and
+ * separately meshed parts (the assembly mode, 3.7.4). The algorithm is femorph_core's
  * AdaptSession (Core/adapt/adapt.h).
  *
  * Input 0: VTK_TETRA cells with the integer cell array MaterialArray
  * (default "MaterialId", one component, values >= 0): 0 is the space mesh,
  * k > 0 object k. The moving object (MovingObject) must not touch the
- * domain's outer boundary. The input is never modified, and its own time
+ * domain's outer boundary nor share vertices with another object. The input is never modified, and its own time
  * steps are not requested (this filter's time is the motion step).
  *
  * Input 1 (optional, "Motion"): a vtkTable with the numeric columns m00, m01,
@@ -72,12 +78,14 @@
  *
  * Output 1 ("Steps"): a vtkTable, one row per step 0..requested step:
  * Step, Vertices, Tetrahedra, MinStretch, MeanStretch, DeformedRegionTets
- * (K_Df, summed over sub-steps), ContactFaces, Seconds, Substeps,
+ * (K_Df, summed over sub-steps), ContactFaces (faces shared by tetrahedra
+ * of two different objects after the step), Seconds, Substeps,
  * InnerVertices (unknowns of Eq. 3.2, summed over sub-steps).
  *
  * Errors (empty outputs): no MaterialArray, an array that is not an integer
  * one-component cell array, a negative id, no cell of MovingObject, no space
- * cell, a motion-table row that is not rigid or columns missing. A step the
+ * cell, a moving object sharing vertices with another object (in contact at
+ * step 0), a motion-table row that is not rigid or columns missing. A step the
  * core refuses (the object would penetrate the boundary or another object,
  * or the space between collapse) is an error naming the step; the outputs
  * for that and every later time are then the last step computed, and the

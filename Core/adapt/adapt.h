@@ -96,7 +96,9 @@ struct AdaptStepReport {
   /// Vertices whose position changed in the step (the object's, the moved
   /// and the new space vertices; over sub-steps, an upper bound).
   std::size_t moved_vertices = 0;
-  std::size_t contact_faces = 0;        ///< faces shared by the moving and another object
+  /// Faces shared by tets of two different objects (material > 0 each)
+  /// after the step (3.7.3's contact triangles); 0 with a single object.
+  std::size_t contact_faces = 0;
   int substeps = 1;
   double seconds = 0;
   /// The time by part: G_v and K_Df (3.4), the region as a mesh of its own,
@@ -232,6 +234,11 @@ Status detect_penetration(const TetMesh& mesh, const std::vector<int>& material_
 Status mesh_space_around(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
                          const std::vector<int>& material, const Vec3& lo, const Vec3& hi, double edge,
                          std::vector<Vec3>& out_points, std::vector<Tet>& out_tets, std::vector<int>& out_material);
+
+/// The faces shared by live tets of two different objects (material > 0
+/// each; `material_by_origin` indexed by tet_origin): thesis 3.7.3's contact
+/// triangles, each counted once.
+std::size_t count_object_contact_faces(const TetMesh& mesh, const std::vector<int>& material_by_origin);
 
 /// Mean and minimum stretch of the live tets of a mesh.
 void stretch_range(const TetMesh& mesh, double* min, double* mean);

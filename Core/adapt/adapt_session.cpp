@@ -171,6 +171,7 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
   quality_floor_ = options.quality_floor > 0 ? options.quality_floor : std::clamp(1.1 * input_min, 0.1, 0.4);
   const Status contact = init_contact();
   if (!contact) return contact;
+  if (contact_) initial_.contact_faces = count_object_contact_faces(mesh_, material_);
   // Objects in contact at step 0: the shared vertices stay with the other
   // object (the first step's contact zone takes them).
   if (std::any_of(object_vertices_.begin(), object_vertices_.end(), [&](index_t v) { return on_other[v] != 0; })) {

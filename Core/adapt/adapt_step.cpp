@@ -1,6 +1,7 @@
-// One motion step of thesis Fig. 3.1 (A2) without contact (3.5.1: "only (ii)
-// rigid transformation and (iii) deformed region adaptation"), followed by
-// the quality improvement of 3.6. Beyond the thesis: a step whose embedding
+// One motion step of thesis Fig. 3.1 (A2): without contact (3.5.1: "only (ii)
+// rigid transformation and (iii) deformed region adaptation"), with contact
+// also the contact zone (adapt_contact.cpp), followed by the quality
+// improvement of 3.6. Beyond the thesis: a step whose embedding
 // would invert elements is split into halves (screw sub-steps), each adapted
 // and improved in turn; a step that cannot be done is refused and the mesh
 // stays at the previous step.
@@ -18,6 +19,22 @@
 #include <unordered_set>
 
 namespace femorph {
+
+std::size_t count_object_contact_faces(const TetMesh& mesh, const std::vector<int>& material_by_origin) {
+  std::size_t n = 0;
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const int m = material_by_origin[mesh.tet_origin(t)];
+    if (m <= 0) continue;
+    for (int f = 0; f < 4; ++f) {
+      const index_t code = mesh.adjacency(t, f);
+      if (code < 0 || (code >> 2) < t) continue;  // each face once: from its lower tet
+      const int o = material_by_origin[mesh.tet_origin(code >> 2)];
+      n += o > 0 && o != m;
+    }
+  }
+  return n;
+}
 
 Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool* retry, bool keep_quality) {
   *retry = false;
@@ -361,6 +378,8 @@ Status AdaptSession::advance(AdaptStepReport* report_out) {
   }
   report.min_stretch = n ? lo : 0;
   report.mean_stretch = n ? sum / static_cast<double>(n) : 0;
+  // Contact faces after the step (3.7.3); a single object has none.
+  if (contact_) report.contact_faces = count_object_contact_faces(mesh_, material_);
   report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   if (report_out) *report_out = std::move(report);
   return Status::success();

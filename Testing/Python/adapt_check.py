@@ -53,7 +53,7 @@ Data/adapt/cylinder_half_tube.json, thesis 3.7.3), numpy only:
 (h) contact area: the faces shared by A and B, their area within 1 % of
     --contact-area (default: the .json's contact_area.discrete[step]).
 
-As a module: read_mesh, motion_pose, matrix_pose, stretch and check (all
+As a module: read_mesh, mesh_from_grid, motion_pose, matrix_pose, stretch and check (all
 of them; returns ok, rows, details); contact_faces, check_contact_conformity,
 check_degenerate, check_contact_area and check_contact (f-h).
 """
@@ -104,11 +104,16 @@ def read_mesh(path):
     reader = vtkXMLUnstructuredGridReader()
     reader.SetFileName(path)
     reader.Update()
-    grid = reader.GetOutput()
+    return mesh_from_grid(reader.GetOutput(), path)
+
+
+def mesh_from_grid(grid, path=""):
+    """A Mesh (copies) from a vtkUnstructuredGrid of tets, e.g. a filter's
+    output in pvpython (MaterialId read when present)."""
     if grid is None or grid.GetNumberOfPoints() == 0:
-        raise ValueError(f"{path}: no points (not a readable .vtu)")
+        raise ValueError(f"{path or 'grid'}: no points (not a readable .vtu)")
     points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
-    types = vtk_to_numpy(grid.GetCellTypesArray()) if grid.GetNumberOfCells() else np.zeros(0)
+    types = np.array(vtk_to_numpy(grid.GetCellTypesArray())) if grid.GetNumberOfCells() else np.zeros(0)
     conn = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).astype(np.int64)
     offsets = vtk_to_numpy(grid.GetCells().GetOffsetsArray()).astype(np.int64)
     if np.any(np.diff(offsets) != 4):

@@ -214,7 +214,7 @@ double signed_volume(const std::vector<Vec3>& p, const std::vector<Tet>& tets, c
 }
 
 // Area of the faces shared by a tet of object a and a tet of object b.
-double contact_area(const AdaptOutput& out, int a, int b) {
+double contact_area(const AdaptOutput& out, int a, int b, std::size_t* count = nullptr) {
   std::map<std::array<index_t, 3>, std::vector<int>> faces;
   for (std::size_t t = 0; t < out.tets.size(); ++t)
     for (int f = 0; f < 4; ++f) {
@@ -223,9 +223,12 @@ double contact_area(const AdaptOutput& out, int a, int b) {
       faces[k].push_back(out.material[t]);
     }
   double area = 0;
+  if (count) *count = 0;
   for (const auto& [k, m] : faces)
-    if (m.size() == 2 && std::min(m[0], m[1]) == std::min(a, b) && std::max(m[0], m[1]) == std::max(a, b))
+    if (m.size() == 2 && std::min(m[0], m[1]) == std::min(a, b) && std::max(m[0], m[1]) == std::max(a, b)) {
       area += area3(out.points[k[0]], out.points[k[1]], out.points[k[2]]);
+      if (count) ++*count;
+    }
   return area;
 }
 
@@ -261,8 +264,10 @@ ContactRun run_cylinder_case(const testing::CylinderHalfTube& g, const RigidMoti
     const AdaptOutput out = session.output();
     const ValidityReport v = check_validity(out.points, out.tets);
     EXPECT_TRUE(v.ok()) << "step " << n << ": " << v.summary();
-    const double area = contact_area(out, 1, 2), want = expected(n);
+    std::size_t shared = 0;
+    const double area = contact_area(out, 1, 2, &shared), want = expected(n);
     EXPECT_NEAR(area, want, 0.01 * want + 1e-12) << "step " << n;
+    EXPECT_EQ(report.contact_faces, shared) << "step " << n;
     const RigidPose back = motion.pose(n).inverse();
     std::vector<std::uint8_t> checked(out.points.size(), 0);
     for (std::size_t t = 0; t < out.tets.size(); ++t) {
@@ -396,7 +401,9 @@ TEST(AdaptContact, BlockLandsOnPlateAndSlides) {
     const AdaptOutput out = session.output();
     const ValidityReport v = check_validity(out.points, out.tets);
     ASSERT_TRUE(v.ok()) << "step " << n << ": " << v.summary();
-    EXPECT_NEAR(contact_area(out, 1, 2), n >= 4 ? 4.0 : 0.0, 1e-9) << "step " << n;
+    std::size_t shared = 0;
+    EXPECT_NEAR(contact_area(out, 1, 2, &shared), n >= 4 ? 4.0 : 0.0, 1e-9) << "step " << n;
+    EXPECT_EQ(report.contact_faces, shared) << "step " << n;
     EXPECT_NEAR(signed_volume(out.points, out.tets, out.material, 1), 8.0, 1e-9) << "step " << n;
     EXPECT_NEAR(signed_volume(out.points, out.tets, out.material, 2), 48.0, 1e-9) << "step " << n;
     // The block's vertices, mapped back, in its initial box.
