@@ -178,7 +178,12 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
       if (material_[mesh_.tet_origin(t)] != options_.moving_object) return false;
     }
     const Vec3 q = back.apply(p);
-    const auto rest = [&](index_t v) { return object_rest_[object_index_[v]]; };
+    // A vertex the object shares with another one (contact) has no rest
+    // position of its own: its place now, mapped back.
+    const auto rest = [&](index_t v) {
+      const index_t k = v < static_cast<index_t>(object_index_.size()) ? object_index_[v] : kInvalidIndex;
+      return k >= 0 ? object_rest_[k] : Vec3(back.apply(mesh_.point(v)));
+    };
     for (int steps = 0; steps < 1000; ++steps) {
       const Tet& T = mesh_.tet(t);
       Eigen::Matrix3d m;
