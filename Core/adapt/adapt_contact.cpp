@@ -171,7 +171,6 @@ std::vector<index_t> AdaptSession::contact_zone(const std::vector<ContactRegion>
         }
       }
     bool grown = false;
-    std::vector<index_t> around;
     for (const auto& [e, n] : faces_on_edge) {
       if (n <= 2) continue;
       mesh_.vertex_ball(e.first, ball);
@@ -199,8 +198,6 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
     return material_of(mesh_, material_, rm.global_tet[sub.tet_origin(t)]);
   };
   const int moving = options_.moving_object;
-  std::vector<std::uint8_t> in_zone(static_cast<std::size_t>(sub.tet_slots()), 0);
-  for (const index_t t : zone) in_zone[t] = 1;
   // Vertices of the zone on the moving object and on another object.
   std::vector<std::uint8_t> on_moving(static_cast<std::size_t>(slots), 0), on_other(static_cast<std::size_t>(slots), 0);
   for (index_t t = 0; t < sub.tet_slots(); ++t) {
@@ -229,7 +226,9 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
   // Faces of each contact's two patches leave the facets for the merge.
   std::vector<HoleFacet> kept;
   std::vector<std::vector<Tri>> moving_patch(contacts.size()), other_patch(contacts.size());
-  std::vector<std::vector<HoleFacet>> moving_source(contacts.size());  // as facets, ids of the copies
+  // The same faces as facets (the moving ones with the copies' ids), for
+  // when a contact has nothing to merge.
+  std::vector<std::vector<HoleFacet>> moving_source(contacts.size()), other_source(contacts.size());
   const double tol = contact_->tolerance;
   const double cos30 = std::cos(kPi / 6);
   const auto on_surface = [&](const SurfacePrimitive& s, const Tri& f) {
@@ -266,6 +265,7 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
         if (f.back != c.other_material) std::swap(t[1], t[2]);
         if (on_surface(c.surface, t)) {
           other_patch[k].push_back(t);
+          other_source[k].push_back(f);
           taken = true;
         }
       }
@@ -287,15 +287,27 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
     ChartTriangles near(chart, contact_->spacing);
     for (const Tri& f : other_patch[k]) near.add(points[f[0]], points[f[1]], points[f[2]]);
     std::vector<Tri> trimmed;
+    std::vector<HoleFacet> trimmed_source;
     for (std::size_t i = 0; i < moving_patch[k].size(); ++i) {
       const Tri& f = moving_patch[k][i];
-      if (near.contains(chart.map((points[f[0]] + points[f[1]] + points[f[2]]) / 3), 2 * contact_->spacing))
+      if (near.contains(chart.map((points[f[0]] + points[f[1]] + points[f[2]]) / 3), 2 * contact_->spacing)) {
         trimmed.push_back(f);
-      else
+        trimmed_source.push_back(moving_source[k][i]);
+      } else {
         kept.push_back(moving_source[k][i]);
+      }
     }
     moving_patch[k] = std::move(trimmed);
+    moving_source[k] = std::move(trimmed_source);
   }
+  // A contact with one patch empty has nothing to merge: its faces stay.
+  for (std::size_t k = 0; k < contacts.size(); ++k)
+    if (moving_patch[k].empty() || other_patch[k].empty()) {
+      kept.insert(kept.end(), moving_source[k].begin(), moving_source[k].end());
+      kept.insert(kept.end(), other_source[k].begin(), other_source[k].end());
+      moving_patch[k].clear();
+      other_patch[k].clear();
+    }
   // The other object's vertices may slide in the merge where no kept tet
   // holds them (off the zone's boundary).
   std::vector<std::uint8_t> on_hole_boundary(points.size(), 0);
