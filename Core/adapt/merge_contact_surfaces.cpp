@@ -95,12 +95,18 @@ Status merge_contact_surfaces(const SurfacePrimitive& surface, const std::vector
   if (movable) {
     const std::vector<Edge> bm0 = patch_boundary(moving_faces), bc0 = patch_boundary(other_faces);
     std::map<index_t, index_t> snap;
+    std::vector<std::array<Vec2, 2>> line(bc0.size());
+    for (std::size_t i = 0; i < bc0.size(); ++i) {
+      line[i][0] = chart.map(point(bc0[i].first));
+      line[i][1] = chart.unwrap(chart.map(point(bc0[i].second)), line[i][0]);
+    }
     for (const Edge& em : bm0)
       for (const index_t vm : {em.first, em.second}) {
         const Vec2 x = chart.map(point(vm));
-        for (const Edge& ec : bc0) {
-          const Vec2 a = chart.map(point(ec.first));
-          const Vec2 b = chart.unwrap(chart.map(point(ec.second)), a);
+        for (std::size_t i = 0; i < bc0.size(); ++i) {
+          const Edge& ec = bc0[i];
+          const Vec2& a = line[i][0];
+          const Vec2& b = line[i][1];
           const Vec2 y = chart.unwrap(x, a);
           if (orient2d_sign(a, b, y) != 0) continue;
           const double t = (y - a).dot(b - a) / (b - a).squaredNorm();
