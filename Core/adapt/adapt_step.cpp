@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <unordered_set>
 
@@ -63,14 +64,11 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     std::vector<index_t> both;
     std::set_union(region.begin(), region.end(), zone.begin(), zone.end(), std::back_inserter(both));
     region = std::move(both);
-    // The union may pinch where the zone's object tets meet the space part.
-    const auto may_take = [&](index_t t) {
-      const int m = material_[mesh_.tet_origin(t)];
-      if (m == 0 || m == options_.moving_object) return true;
-      for (const ContactRegion& c : contacts)
-        if (c.other_material == m) return true;
-      return false;
-    };
+    // The union may pinch where the zone's object tets meet the space part:
+    // close it with tets of the zone's materials.
+    std::set<int> zone_materials{0, options_.moving_object};
+    for (const index_t t : zone) zone_materials.insert(material_[mesh_.tet_origin(t)]);
+    const auto may_take = [&](index_t t) { return zone_materials.count(material_[mesh_.tet_origin(t)]) > 0; };
     close_region(mesh_, region, may_take);
     std::sort(region.begin(), region.end());
   }
