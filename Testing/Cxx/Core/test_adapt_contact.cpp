@@ -451,5 +451,36 @@ TEST(AdaptContact, ContactAtTheStart) {
   }
 }
 
+// Bad motion input with contact: after sliding in, a step that pushes the
+// cylinder sideways into the tube's wall is refused, naming the step, and
+// the mesh stays at the step before.
+TEST(AdaptContact, PushIntoTheWallIsRefused) {
+  const testing::CylinderHalfTube g;
+  const testing::MaterialMesh mm = testing::make_cylinder_half_tube(g);
+  RigidMotion motion;
+  for (int n = 1; n <= 8; ++n) {
+    RigidPose p;
+    p.t = Vec3(0, 0, 0.25 * n);
+    motion.table.push_back(p);
+  }
+  RigidPose wall;
+  wall.t = Vec3(0, -0.3, 2.0);
+  motion.table.push_back(wall);
+  AdaptOptions options;
+  options.moving_object = 1;
+  AdaptSession session;
+  ASSERT_TRUE(session.init(mm.points, mm.tets, mm.material, motion, options));
+  for (int n = 1; n <= 8; ++n) ASSERT_TRUE(session.advance()) << "step " << n;
+  const AdaptOutput before = session.output();
+  const Status st = session.advance();
+  EXPECT_FALSE(st);
+  EXPECT_NE(st.message.find("step 9 refused"), std::string::npos) << st.message;
+  EXPECT_EQ(session.current_step(), 8);
+  const AdaptOutput after = session.output();
+  EXPECT_EQ(after.points, before.points);
+  EXPECT_EQ(after.tets, before.tets);
+  EXPECT_TRUE(check_validity(after.points, after.tets).ok());
+}
+
 }  // namespace
 }  // namespace femorph
