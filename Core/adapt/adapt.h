@@ -282,6 +282,10 @@ class AdaptSession {
   Status remesh_contact_zone(RegionMesh& rm, const std::vector<index_t>& zone,
                              const std::vector<ContactRegion>& contacts, const RigidPose& to);
   void rebuild_object_vertices(const std::vector<index_t>& placed, const RigidPose& to);
+  /// Penetration through a contact: a vertex the moving object shares with
+  /// another one, moved to `target`, must not go into that object beyond
+  /// the contact surface (the walk of detect_penetration cannot tell).
+  Status check_shared_vertices(const RigidPose& target) const;
   std::shared_ptr<AdaptContactState> contact_;
   TetMesh mesh_;
   std::vector<int> material_;              ///< per input tet (by tet_origin)

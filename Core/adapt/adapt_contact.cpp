@@ -390,6 +390,49 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
   return Status::success();
 }
 
+Status AdaptSession::check_shared_vertices(const RigidPose& target) const {
+  const RigidPose relative = target.after(pose_.inverse());
+  const std::vector<ContactRegion> contacts = contacts_at(pose_);
+  // Each shared vertex's other object: its outward normal there (the sum of
+  // its boundary faces' at the vertex), to tell its side of the surface.
+  std::vector<index_t> ball;
+  for (const index_t v : contact_->shared) {
+    const Vec3 p = mesh_.point(v), moved = relative.apply(p);
+    mesh_.vertex_ball(v, ball);
+    for (const ContactRegion& c : contacts) {
+      if (distance(c.surface, p) > contact_->tolerance) continue;
+      Vec3 outward = Vec3::Zero();
+      for (const index_t t : ball) {
+        if (material_of(mesh_, material_, t) != c.other_material) continue;
+        const int lv = mesh_.local_index(t, v);
+        for (int f = 0; f < 4; ++f) {
+          if (f == lv) continue;
+          const index_t code = mesh_.adjacency(t, f);
+          if (code >= 0 && material_of(mesh_, material_, code >> 2) == c.other_material) continue;
+          const Tet& T = mesh_.tet(t);
+          const Vec3 a = mesh_.point(T[kTetFace[f][0]]), b = mesh_.point(T[kTetFace[f][1]]),
+                     d = mesh_.point(T[kTetFace[f][2]]);
+          outward += (b - a).cross(d - a);
+        }
+      }
+      if (outward.squaredNorm() == 0) continue;
+      // Into the other object: beyond its surface on its side (sliding and
+      // turning on the surface keep the shared vertices on it).
+      const double side = outward.dot(surface_normal(c.surface, p)) > 0 ? -1 : 1;
+      const double depth = side * signed_distance(c.surface, moved);
+      if (depth > contact_->tolerance + 0.05 * contact_->spacing) {
+        std::ostringstream os;
+        os << "the moving object (material " << options_.moving_object << ") would penetrate object "
+           << c.other_material << " by " << depth << " at (" << moved.x() << ", " << moved.y() << ", " << moved.z()
+           << ")";
+        return Status::failure(os.str());
+      }
+      break;
+    }
+  }
+  return Status::success();
+}
+
 void AdaptSession::rebuild_object_vertices(const std::vector<index_t>& placed, const RigidPose& to) {
   // The moving object's vertices after a contact step (before it moves to
   // the new pose): those only its tets use (a vertex shared with another

@@ -319,7 +319,8 @@ Status AdaptSession::advance(AdaptStepReport* report_out) {
       walkers.push_back(v);
       moved.push_back(target.apply(object_rest_[object_index_[v]]));
     }
-    const Status p = detect_penetration(mesh_, material_, options_.moving_object, walkers, moved);
+    Status p = detect_penetration(mesh_, material_, options_.moving_object, walkers, moved);
+    if (p && contact_ && !contact_->shared.empty()) p = check_shared_vertices(target);
     if (!p)
       return Status::failure("step " + std::to_string(next) + " refused: " + p.message + " (earlier steps are kept)");
   }

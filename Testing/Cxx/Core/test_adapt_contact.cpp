@@ -452,8 +452,8 @@ TEST(AdaptContact, ContactAtTheStart) {
 }
 
 // Bad motion input with contact: after sliding in, a step that pushes the
-// cylinder sideways into the tube's wall is refused, naming the step, and
-// the mesh stays at the step before.
+// cylinder sideways into the tube's wall is refused as a penetration,
+// naming the step, and the mesh stays at the step before.
 TEST(AdaptContact, PushIntoTheWallIsRefused) {
   const testing::CylinderHalfTube g;
   const testing::MaterialMesh mm = testing::make_cylinder_half_tube(g);
@@ -475,6 +475,7 @@ TEST(AdaptContact, PushIntoTheWallIsRefused) {
   const Status st = session.advance();
   EXPECT_FALSE(st);
   EXPECT_NE(st.message.find("step 9 refused"), std::string::npos) << st.message;
+  EXPECT_NE(st.message.find("penetrate object 2"), std::string::npos) << st.message;
   EXPECT_EQ(session.current_step(), 8);
   const AdaptOutput after = session.output();
   EXPECT_EQ(after.points, before.points);
