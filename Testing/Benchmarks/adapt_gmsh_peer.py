@@ -161,27 +161,7 @@ def mesh(size):
 
 def extract(block_tag):
     """Points, tets (positively oriented) and MaterialId of the current mesh."""
-    tags, coords, _ = gmsh.model.mesh.getNodes()
-    index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
-    index[tags.astype(np.int64)] = np.arange(len(tags))
-    points = coords.reshape(-1, 3)
-    tets, material = [], []
-    for _, vol in gmsh.model.getEntities(3):
-        types, _, nodes = gmsh.model.mesh.getElements(3, vol)
-        for typ, nd in zip(types, nodes):
-            if typ == GMSH_TET:
-                t = index[nd.astype(np.int64)].reshape(-1, 4)
-                tets.append(t)
-                material.append(np.full(len(t), 1 if vol == block_tag else 0, dtype=np.int32))
-    tets = np.vstack(tets)
-    material = np.concatenate(material)
-    used = np.unique(tets)
-    remap = np.full(len(points), -1, dtype=np.int64)
-    remap[used] = np.arange(len(used))
-    points, tets = points[used], remap[tets]
-    flip = signed_volumes(points, tets) < 0
-    tets[flip] = tets[flip][:, [0, 2, 1, 3]]
-    return points, tets, material
+    return extract_materials({vol: 1 if vol == block_tag else 0 for _, vol in gmsh.model.getEntities(3)})
 
 
 def tet_count(case, size):
