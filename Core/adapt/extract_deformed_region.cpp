@@ -65,6 +65,17 @@ bool ball_is_manifold(const TetMesh& mesh, index_t v, const std::vector<index_t>
   return region_roots <= 1 && other_roots <= 1;
 }
 
+/// The vertices of the region's tets, each once, into `candidates`.
+void queue_vertices(const TetMesh& mesh, const std::vector<index_t>& region, std::vector<std::uint8_t>& queued,
+                    std::vector<index_t>& candidates) {
+  for (const index_t t : region)
+    for (const index_t v : mesh.tet(t))
+      if (!queued[v]) {
+        queued[v] = 1;
+        candidates.push_back(v);
+      }
+}
+
 }  // namespace
 
 void close_region(const TetMesh& mesh, std::vector<index_t>& region, const std::function<bool(index_t)>& may_take) {
@@ -82,12 +93,7 @@ void close_region(const TetMesh& mesh, std::vector<index_t>& region, const std::
   // Closing: a vertex of the region whose ball is pinched takes its whole
   // space ball in; the tets added bring new vertices to check.
   std::vector<std::uint8_t> queued(static_cast<std::size_t>(mesh.vertex_slots()), 0);
-  for (const index_t t : region)
-    for (const index_t v : mesh.tet(t))
-      if (!queued[v]) {
-        queued[v] = 1;
-        candidates.push_back(v);
-      }
+  queue_vertices(mesh, region, queued, candidates);
   for (std::size_t q = 0; q < candidates.size(); ++q) {
     const index_t v = candidates[q];
     mesh.vertex_ball(v, ball);
@@ -114,12 +120,7 @@ void open_region(const TetMesh& mesh, std::vector<index_t>& region) {
   for (const index_t t : region) in_region[t] = 1;
   std::vector<index_t> ball, candidates;
   std::vector<std::uint8_t> queued(static_cast<std::size_t>(mesh.vertex_slots()), 0);
-  for (const index_t t : region)
-    for (const index_t v : mesh.tet(t))
-      if (!queued[v]) {
-        queued[v] = 1;
-        candidates.push_back(v);
-      }
+  queue_vertices(mesh, region, queued, candidates);
   for (std::size_t q = 0; q < candidates.size(); ++q) {
     const index_t v = candidates[q];
     mesh.vertex_ball(v, ball);
