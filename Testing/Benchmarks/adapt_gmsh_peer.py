@@ -159,6 +159,20 @@ def mesh(size):
     gmsh.model.mesh.generate(3)
 
 
+def kept_fractions(points, on_box, previous, tol):
+    """Percent of all points and of the points off the box that kept their
+    position since the previous mesh (its coordinate keys; None: "-"), and
+    this mesh's keys for the next step."""
+    if previous is None:
+        kept = kept_inner = "-"
+    else:
+        keys = np.round(points / tol).astype(np.int64)
+        same = np.array([tuple(k) in previous for k in keys.tolist()])
+        kept = f"{100.0 * same.mean():.2f}"
+        kept_inner = f"{100.0 * same[~on_box].mean():.2f}"
+    return kept, kept_inner, coordinate_keys(points, tol)
+
+
 def extract(block_tag):
     """Points, tets (positively oriented) and MaterialId of the current mesh."""
     return extract_materials({vol: 1 if vol == block_tag else 0 for _, vol in gmsh.model.getEntities(3)})
@@ -333,15 +347,8 @@ def run_cylinder_half_tube(args):
             points, tets, mats = extract_materials(material)
             s = stretch(points, tets)
             area = shared_area(points, tets, mats, 1, 2)
-            keys = np.round(points / tol).astype(np.int64)
             on_box = np.any((np.abs(points - case.lo) <= tol) | (np.abs(points - case.hi) <= tol), axis=1)
-            if previous is None:
-                kept = kept_inner = "-"
-            else:
-                same = np.array([tuple(k) in previous for k in keys.tolist()])
-                kept = f"{100.0 * same.mean():.2f}"
-                kept_inner = f"{100.0 * same[~on_box].mean():.2f}"
-            previous = coordinate_keys(points, tol)
+            kept, kept_inner, previous = kept_fractions(points, on_box, previous, tol)
             if i:
                 totals.append(total)
             print(f"{n:>5} {len(tets):>8} {len(points):>8} {geom:>7.3f} {total - geom:>7.3f} "
@@ -438,15 +445,8 @@ def main():
             total = time.perf_counter() - start
             points, tets, material = extract(block_tag)
             s = stretch(points, tets)
-            keys = np.round(points / tol).astype(np.int64)
             on_box = np.any((np.abs(points) <= tol) | (np.abs(points - case.size) <= tol), axis=1)
-            if previous is None:
-                kept = kept_inner = "-"
-            else:
-                same = np.array([tuple(k) in previous for k in keys.tolist()])
-                kept = f"{100.0 * same.mean():.2f}"
-                kept_inner = f"{100.0 * same[~on_box].mean():.2f}"
-            previous = coordinate_keys(points, tol)
+            kept, kept_inner, previous = kept_fractions(points, on_box, previous, tol)
             if n:
                 totals.append(total)
             print(f"{n:>5} {len(tets):>8} {len(points):>8} {geom:>7.3f} {total - geom:>7.3f} "
