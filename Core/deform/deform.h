@@ -159,7 +159,8 @@ bool mean_value_coordinates_3d(const Vec3& x, const std::vector<Vec3>& vertices,
 
 /// The 3D mean value coordinates of vertex v in its 1-ring polyhedron (the
 /// link of its ball, Eq. 2.10's handle vertices; thesis 3.5.3's Eq. 3.1):
-/// `ids` the ring's vertices, `weights` theirs. For inner vertices.
+/// `ids` the ring's vertices, `weights` theirs. For inner vertices; safe
+/// from several threads at once while the mesh does not change.
 void vertex_ring_mvc(const TetMesh& mesh, index_t v, std::vector<index_t>& ids, std::vector<double>& weights);
 
 /// The deformable region (2.5.3): per tet slot 1 when the deformation may
@@ -178,20 +179,22 @@ struct VertexParameterization {
   std::vector<index_t> region;            ///< Mapped: the moved region; Surface: its region
   std::vector<std::array<index_t, 2>> curve_regions;  ///< Curve and Mapped on a curve: the two regions
   std::vector<std::vector<index_t>> mapped_regions;   ///< Mapped: every region of the vertex
+  std::vector<index_t> mapped;            ///< the Mapped vertices
+  std::vector<index_t> moving_tets;       ///< live tets with a vertex that is not Fixed
+  double scale = 0;                       ///< largest absolute coordinate of a live vertex
   struct System {
     std::vector<index_t> unknowns;        ///< vertex ids
     std::vector<index_t> knowns;          ///< vertex ids in the right-hand side
     Eigen::SparseMatrix<double> rhs;      ///< unknowns x knowns weights
-    /// Factorised (SparseLU): each target then costs two triangular solves.
-    /// An inner system above kMaxFactorised unknowns (a whole mesh's
-    /// inside) is solved iteratively (BiCGSTAB, diagonal preconditioner)
-    /// at each target: a factorisation would cost more time and memory than
-    /// many solves.
+    /// Curves and surfaces: factorised (SparseLU), each target then costs
+    /// two triangular solves. The inside: solved iteratively at each target
+    /// (BiCGSTAB, diagonal preconditioner, warm-started by a RepositionHistory):
+    /// its factors fill in like a 3D mesh's and would cost more time and
+    /// memory than many solves.
     std::shared_ptr<Eigen::SparseLU<Eigen::SparseMatrix<double>>> lu;
     std::shared_ptr<Eigen::BiCGSTAB<Eigen::SparseMatrix<double>, Eigen::DiagonalPreconditioner<double>>> iterative;
-    Eigen::SparseMatrix<double> matrix;   ///< kept for the iterative solver
+    Eigen::SparseMatrix<double> matrix;   ///< kept for the iterative solver (and its fallback)
   };
-  static constexpr std::size_t kMaxFactorised = 20000;
   System curves, surfaces, inner;
   std::vector<std::uint8_t> deformable;  ///< per tet slot
   double seconds_surface = 0, seconds_inner = 0;
@@ -203,12 +206,50 @@ struct VertexParameterization {
 Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const std::vector<std::uint8_t>& deformable,
                              VertexParameterization& out, bool inner = true);
 
+/// Earlier solutions of one system of Eq. 2.10. The solution is linear in
+/// the knowns' displacements, so a right side in the span of earlier ones
+/// is answered by superposition instead of a solve: when only the target
+/// value changes, a linear dimension (a distance, a radius, a position)
+/// costs one solve, every later target none.
+class SolveHistory {
+ public:
+  /// `solution` (unknowns x 3): the superposition of the stored solutions
+  /// for `known` (knowns x 3). True when it is exact: what is left of
+  /// `known` outside the stored span is below kExact of its largest entry.
+  /// Otherwise `solution` is the superposed part (a warm start).
+  bool superpose(const Eigen::MatrixXd& known, Eigen::Index unknowns, Eigen::MatrixXd& solution) const;
+  /// Stores a solved pair when `known` adds a direction to the span.
+  void add(const Eigen::MatrixXd& known, const Eigen::MatrixXd& solution);
+  void clear();
+  std::size_t size() const { return basis_.size(); }
+
+  static constexpr double kExact = 1e-12;
+  static constexpr double kNewDirection = 1e-4;
+  static constexpr std::size_t kMaxSize = 8;
+
+ private:
+  std::vector<Eigen::MatrixXd> basis_, solutions_;
+};
+
+/// The solve histories of one parameterisation's three systems.
+struct RepositionHistory {
+  SolveHistory curves, surfaces, inner;
+  void clear() {
+    curves.clear();
+    surfaces.clear();
+    inner.clear();
+  }
+};
+
 /// 2.5.4.5: the new position of every vertex for the surfaces of `update`:
 /// mapped vertices by the map (then onto their deformed neighbours'
 /// surfaces), curve, surface and inner vertices by their coordinates, then
 /// onto their surfaces. `points` receives all vertex slots.
+/// `history` (optional, of this parameterisation): earlier solutions,
+/// superposed where they span the new right sides and extended by the
+/// solves that are still needed.
 void reposition_vertices(const TetMesh& mesh, const DeformRegions& regions, const VertexParameterization& param,
-                         const SurfaceUpdate& update, std::vector<Vec3>& points);
+                         const SurfaceUpdate& update, std::vector<Vec3>& points, RepositionHistory* history = nullptr);
 
 /// Whether `points` keep every boundary triangle of the moved and deformed
 /// regions unfolded on its surface (the valid-range test, 2.5.3), and why not.
@@ -293,6 +334,7 @@ class DeformSession {
   DeformRegions regions_;
   DeformPlan plan_;
   VertexParameterization param_;
+  RepositionHistory history_;  ///< of param_
   double reach_ = -1;  ///< the reach param_ was built for (< 0: none)
   double edge_ = 0;
 };

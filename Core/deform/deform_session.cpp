@@ -17,6 +17,7 @@ Status DeformSession::prepare(const TetMesh& mesh, const DeformRegions& regions,
   regions_ = regions;
   reach_ = -1;
   param_ = VertexParameterization();
+  history_.clear();
   const RegionGraph graph = region_adjacency(mesh_, regions_.size());
   const Status s = classify_surface_regions(mesh_, regions_, graph, options, plan_);
   if (!s) return s;
@@ -43,15 +44,15 @@ Status DeformSession::reposition(double target, std::vector<Vec3>& points, std::
   if (!keep) {
     std::vector<std::uint8_t> region;
     if (plan_.options.local_region) region = extract_deformable_region(mesh_, plan_, reach);
+    history_.clear();
     const Status s = parameterize_vertices(mesh_, plan_, region, param_);
     if (!s) return s;
     reach_ = reach;
   }
   if (reused) *reused = keep;
-  reposition_vertices(mesh_, regions_, param_, update, points);
+  reposition_vertices(mesh_, regions_, param_, update, points, &history_);
   std::size_t inverted = 0;
-  for (index_t t = 0; t < mesh_.tet_slots(); ++t) {
-    if (!mesh_.tet_alive(t)) continue;
+  for (const index_t t : param_.moving_tets) {  // the others keep their volume
     const Tet& T = mesh_.tet(t);
     inverted += tet_signed_volume(points[T[0]], points[T[1]], points[T[2]], points[T[3]]) <= 0;
   }

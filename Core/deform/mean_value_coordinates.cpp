@@ -105,7 +105,8 @@ void vertex_ring_mvc(const TetMesh& mesh, index_t v, std::vector<index_t>& ids, 
   thread_local std::vector<index_t> ball;
   thread_local std::vector<Vec3> ring;
   thread_local std::vector<Tri> link;
-  mesh.vertex_ball(v, ball);
+  thread_local TetMesh::WalkMarks marks;  // callers may run in parallel
+  mesh.vertex_ball(v, ball, marks);
   ids.clear();
   ring.clear();
   link.clear();

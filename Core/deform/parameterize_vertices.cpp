@@ -28,7 +28,7 @@ struct Rows {
 };
 
 Status factorise(const std::vector<Param::Kind>& kind, Param::Kind unknown_kind, Rows rows, Param::System& out,
-                 const char* what, bool iterative_above_limit) {
+                 const char* what, bool iterative) {
   out = Param::System();
   out.unknowns = std::move(rows.unknowns);
   const std::size_t n = out.unknowns.size();
@@ -57,7 +57,7 @@ Status factorise(const std::vector<Param::Kind>& kind, Param::Kind unknown_kind,
   out.rhs.resize(static_cast<int>(n), static_cast<int>(out.knowns.size()));
   out.rhs.setFromTriplets(b.begin(), b.end());
   bool ok;
-  if (!iterative_above_limit || n <= Param::kMaxFactorised) {
+  if (!iterative) {
     out.lu = std::make_shared<Eigen::SparseLU<Eigen::SparseMatrix<double>>>();
     out.lu->compute(matrix);
     ok = out.lu->info() == Eigen::Success;
@@ -101,8 +101,31 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
     }
   }
 
+  // The boundary around the region: every vertex that may move (in a
+  // deformable tet, or on a moved region, which the map moves wherever it
+  // is) with its whole fan; the others stay fixed.
   SurfaceMesh surface;
-  const Status extracted = extract_boundary_surface(mesh, surface);
+  Status extracted;
+  if (deformable.empty()) {
+    extracted = extract_boundary_surface(mesh, surface);
+  } else {
+    std::vector<std::uint8_t> near(nv, 0);
+    for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+      if (!mesh.tet_alive(t)) continue;
+      const Tet& T = mesh.tet(t);
+      if (t < static_cast<index_t>(deformable.size()) && deformable[t]) {
+        for (const index_t v : T) near[v] = 1;
+      }
+      for (int f = 0; f < 4; ++f) {
+        const index_t r = mesh.face_region(t, f);
+        if (!mesh.is_boundary_face(t, f) || r < 0 || r >= static_cast<index_t>(plan.roles.size())) continue;
+        if (plan.roles[r] == RegionRole::Control || plan.roles[r] == RegionRole::Following) {
+          for (int k = 0; k < 3; ++k) near[T[kTetFace[f][k]]] = 1;
+        }
+      }
+    }
+    extracted = extract_boundary_surface_near(mesh, near, surface);
+  }
   if (!extracted) return extracted;
   const index_t ns = surface.num_points();
   std::vector<index_t> tri_region(surface.num_triangles());
@@ -167,6 +190,11 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
     } else if (out.kind[v] == Param::Inner && (!free[v] || !inner)) {
       out.kind[v] = Param::Fixed;
     }
+  }
+
+  for (index_t v = 0; v < nv; ++v) {
+    if (out.kind[v] == Param::Mapped) out.mapped.push_back(v);
+    if (mesh.vertex_alive(v)) out.scale = std::max(out.scale, mesh.point(v).cwiseAbs().maxCoeff());
   }
 
   // Curve vertices: the division ratio between the two neighbours along
@@ -237,18 +265,34 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
   // Inner vertices: 3D mean value coordinates of their 1-ring polyhedron.
   if (inner) {
     for (index_t v = 0; v < nv; ++v) {
-      if (out.kind[v] != Param::Inner) continue;
-      vertex_ring_mvc(mesh, v, ring_ids, weights);
-      inner_rows.unknowns.push_back(v);
-      std::vector<std::pair<index_t, double>> row;
-      for (std::size_t j = 0; j < ring_ids.size(); ++j) row.emplace_back(ring_ids[j], weights[j]);
-      inner_rows.weights.push_back(std::move(row));
+      if (out.kind[v] == Param::Inner) inner_rows.unknowns.push_back(v);
     }
+    const auto n = static_cast<long>(inner_rows.unknowns.size());
+    inner_rows.weights.resize(inner_rows.unknowns.size());
+#pragma omp parallel if (n >= kParallelMinItems / 4)
+    {
+      std::vector<index_t> ids;
+      std::vector<double> w;
+#pragma omp for schedule(dynamic, 256)
+      for (long i = 0; i < n; ++i) {
+        vertex_ring_mvc(mesh, inner_rows.unknowns[i], ids, w);
+        auto& row = inner_rows.weights[i];
+        for (std::size_t j = 0; j < ids.size(); ++j) row.emplace_back(ids[j], w[j]);
+      }
+    }
+  }
+
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const Tet& T = mesh.tet(t);
+    const auto moves = [&](index_t v) { return out.kind[v] != Param::Fixed; };
+    if (moves(T[0]) || moves(T[1]) || moves(T[2]) || moves(T[3])) out.moving_tets.push_back(t);
   }
 
   const auto t_inner_rows = Clock::now();
   // Curves and surfaces are 1D and 2D systems: their factors stay sparse at
-  // any size. Only the inside may be solved iteratively.
+  // any size. The inside's factors would fill in (3D) and cost more than
+  // the solves: it is solved iteratively, warm-started by superposition.
   Status s = factorise(out.kind, Param::Curve, std::move(curve_rows), out.curves, "curve", false);
   if (s) s = factorise(out.kind, Param::Surface, std::move(surface_rows), out.surfaces, "surface", false);
   const auto t2 = Clock::now();

@@ -1,7 +1,8 @@
 // Vertex repositioning (thesis 2.5.4.5): mapped vertices onto the updated
 // surfaces of the control and following regions (Method 1), then curve,
 // surface and inner vertices by their coordinates (Method 2, Eq. 2.10, one
-// solve per kind with the factorisation of parameterize_vertices), curve and
+// solve per kind with the factorisation of parameterize_vertices, or a
+// superposition of earlier solutions), curve and
 // surface vertices finally onto their surfaces.
 #include "deform/deform.h"
 
@@ -48,21 +49,49 @@ Vec3 project(const std::vector<SurfacePrimitive>& surfaces, const std::vector<in
   return p;
 }
 
-/// The displacements of a system's unknowns from those of its knowns.
-void solve(const VertexParameterization::System& system, std::vector<Vec3>& points, const std::vector<Vec3>& rest) {
+/// The displacements of a system's unknowns from those of its knowns: by
+/// superposition of earlier solutions where they span the knowns' moves,
+/// else by a solve (warm-started from the superposed part when iterative).
+void solve(const VertexParameterization::System& system, SolveHistory* history, std::vector<Vec3>& points,
+           const std::vector<Vec3>& rest) {
   if (system.unknowns.empty()) return;
+  const auto n = static_cast<Eigen::Index>(system.unknowns.size());
   Eigen::MatrixXd known(system.knowns.size(), 3);
   for (std::size_t k = 0; k < system.knowns.size(); ++k) {
     const index_t v = system.knowns[k];
     known.row(static_cast<Eigen::Index>(k)) = (points[v] - rest[v]).transpose();
   }
-  const Eigen::MatrixXd rhs = system.rhs * known;
   Eigen::MatrixXd u;
-  if (system.lu) {
-    u = system.lu->solve(rhs);
+  bool exact = false;
+  if (history) {
+    exact = history->superpose(known, n, u);
   } else {
-    u.resize(rhs.rows(), 3);
-    for (int c = 0; c < 3; ++c) u.col(c) = system.iterative->solve(rhs.col(c));
+    u = Eigen::MatrixXd::Zero(n, 3);
+  }
+  if (!exact) {
+    const Eigen::MatrixXd rhs = system.rhs * known;
+    bool solved = false;
+    if (system.lu) {
+      u = system.lu->solve(rhs);
+      solved = true;
+    } else if (system.iterative) {
+      solved = true;
+      for (int c = 0; c < 3 && solved; ++c) {
+        const Eigen::VectorXd guess = u.col(c);
+        u.col(c) = system.iterative->solveWithGuess(rhs.col(c), guess);
+        solved = system.iterative->info() == Eigen::Success;
+      }
+    }
+    if (!solved) {  // BiCGSTAB stalled: factorise this once
+      Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(system.matrix);
+      solved = lu.info() == Eigen::Success;
+      if (solved) u = lu.solve(rhs);
+      solved = solved && lu.info() == Eigen::Success && u.allFinite();
+      // Singular (vertices outside their 1-ring): the unknowns stay, and the
+      // caller's inversion check sees the tets this folds.
+      if (!solved) u.setZero(n, 3);
+    }
+    if (history && solved) history->add(known, u);
   }
   for (std::size_t i = 0; i < system.unknowns.size(); ++i) {
     const index_t v = system.unknowns[i];
@@ -91,18 +120,12 @@ void keep_axis_coordinates(const std::vector<SurfacePrimitive>& surfaces, const 
 }  // namespace
 
 void reposition_vertices(const TetMesh& mesh, const DeformRegions& /*regions*/, const VertexParameterization& param,
-                         const SurfaceUpdate& update, std::vector<Vec3>& points) {
-  using Param = VertexParameterization;
+                         const SurfaceUpdate& update, std::vector<Vec3>& points, RepositionHistory* history) {
   const std::vector<Vec3>& rest = mesh.points();
   points = rest;
-  double scale = 0;
-  for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
-    if (mesh.vertex_alive(v)) scale = std::max(scale, rest[v].cwiseAbs().maxCoeff());
-  }
-  const double tol = 1e-15 * std::max(scale, 1.0);
+  const double tol = 1e-15 * std::max(param.scale, 1.0);
   // Method 1: onto the updated surfaces, then onto the deformed neighbours'.
-  for (index_t v = 0; v < mesh.vertex_slots(); ++v) {
-    if (param.kind[v] != Param::Mapped) continue;
+  for (const index_t v : param.mapped) {
     points[v] = update.map(param.region[v], rest[v]);
     if (param.mapped_regions[v].size() > 1) {
       points[v] = project(update.surfaces, param.mapped_regions[v], points[v], tol);
@@ -110,18 +133,18 @@ void reposition_vertices(const TetMesh& mesh, const DeformRegions& /*regions*/, 
     }
   }
   // Method 2 by kind; curves and surfaces back onto their surfaces.
-  solve(param.curves, points, rest);
+  solve(param.curves, history ? &history->curves : nullptr, points, rest);
   for (const index_t v : param.curves.unknowns) {
     const std::vector<index_t> two{param.curve_regions[v][0], param.curve_regions[v][1]};
     points[v] = project(update.surfaces, two, points[v], tol);
     keep_axis_coordinates(update.surfaces, two, rest[v], points[v]);
   }
-  solve(param.surfaces, points, rest);
+  solve(param.surfaces, history ? &history->surfaces : nullptr, points, rest);
   for (const index_t v : param.surfaces.unknowns) {
     points[v] = project(update.surfaces, {param.region[v]}, points[v], tol);
     keep_axis_coordinates(update.surfaces, {param.region[v]}, rest[v], points[v]);
   }
-  solve(param.inner, points, rest);
+  solve(param.inner, history ? &history->inner : nullptr, points, rest);
 }
 
 }  // namespace femorph

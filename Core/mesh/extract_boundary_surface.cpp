@@ -1,5 +1,6 @@
 // extract_boundary_surface: the boundary faces of a tet mesh as an outward
-// SurfaceMesh, for the segmentation (thesis 2.4) to work on.
+// SurfaceMesh, for the segmentation (thesis 2.4) to work on; or the part of
+// it around some vertices, for a local deformation (2.5.4).
 #include "mesh/surface_mesh.h"
 #include "mesh/tet_mesh.h"
 
@@ -7,7 +8,12 @@
 
 namespace femorph {
 
-Status extract_boundary_surface(const TetMesh& mesh, SurfaceMesh& out, SurfaceReport* report) {
+namespace {
+
+/// The boundary faces of `mesh` (all, or those with a vertex in `mask`: an
+/// open surface) as a SurfaceMesh.
+Status boundary_faces(const TetMesh& mesh, const std::vector<std::uint8_t>* mask, SurfaceMesh& out,
+                      SurfaceReport* report) {
   const index_t nt = mesh.tet_slots();
   const index_t nv = mesh.vertex_slots();
 
@@ -22,6 +28,7 @@ Status extract_boundary_surface(const TetMesh& mesh, SurfaceMesh& out, SurfaceRe
     for (int f = 0; f < 4; ++f) {
       if (!mesh.is_boundary_face(t, f)) continue;
       const Tri tri{{tet[kTetFace[f][0]], tet[kTetFace[f][1]], tet[kTetFace[f][2]]}};
+      if (mask && !(*mask)[tri[0]] && !(*mask)[tri[1]] && !(*mask)[tri[2]]) continue;
       for (index_t v : tri) surface_id[v] = 0;  // marked; numbered below
       triangles.push_back(tri);
       source_face.push_back(4 * t + f);
@@ -30,7 +37,7 @@ Status extract_boundary_surface(const TetMesh& mesh, SurfaceMesh& out, SurfaceRe
   if (triangles.empty()) {
     out = SurfaceMesh();
     if (report) *report = SurfaceReport();
-    return Status::failure("the tet mesh has no boundary faces");
+    return Status::failure(mask ? "the tet mesh has no boundary faces there" : "the tet mesh has no boundary faces");
   }
 
   // Surface vertices numbered compactly in ascending tet mesh id.
@@ -45,11 +52,21 @@ Status extract_boundary_surface(const TetMesh& mesh, SurfaceMesh& out, SurfaceRe
   for (Tri& tri : triangles)
     for (index_t& v : tri) v = surface_id[v];
 
-  const Status built = build_surface_mesh(std::move(points), std::move(triangles), out, false, report);
+  const Status built = build_surface_mesh(std::move(points), std::move(triangles), out, mask != nullptr, report);
   if (!built) return Status::failure("boundary of the tet mesh: " + built.message);
   out.source_vertex = std::move(source_vertex);
   out.source_face = std::move(source_face);
   return Status::success();
+}
+
+}  // namespace
+
+Status extract_boundary_surface(const TetMesh& mesh, SurfaceMesh& out, SurfaceReport* report) {
+  return boundary_faces(mesh, nullptr, out, report);
+}
+
+Status extract_boundary_surface_near(const TetMesh& mesh, const std::vector<std::uint8_t>& vertices, SurfaceMesh& out) {
+  return boundary_faces(mesh, &vertices, out, nullptr);
 }
 
 }  // namespace femorph

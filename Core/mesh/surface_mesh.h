@@ -6,6 +6,7 @@
 #include "common/types.h"
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 namespace femorph {
@@ -55,5 +56,11 @@ Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, 
 /// The boundary of a tet mesh as a SurfaceMesh (outward triangles), with
 /// source_vertex and source_face filled.
 Status extract_boundary_surface(const TetMesh& mesh, SurfaceMesh& out, SurfaceReport* report = nullptr);
+
+/// The boundary triangles with a vertex flagged in `vertices` (per vertex
+/// slot), so every flagged boundary vertex has its whole fan: an open
+/// surface around a region, without a pass over the whole boundary's
+/// adjacency.
+Status extract_boundary_surface_near(const TetMesh& mesh, const std::vector<std::uint8_t>& vertices, SurfaceMesh& out);
 
 }  // namespace femorph

@@ -18,7 +18,8 @@
 //  - parameterize_vertices of a local region: extract_deformable_region with
 //    the reach (found by bisection) that gives about --inner inner unknowns;
 //  - update_region_surfaces + reposition_vertices for a new target on that
-//    parameterisation;
+//    parameterisation, with its solve history (superposition, as
+//    DeformSession repositions) and without (every target solved);
 //  - deform_mesh with improve on (median of --deform-runs runs, a fresh copy
 //    of the segmented mesh each run), against the peer measured in the same
 //    command: Gmsh meshing the changed CAD (boss_height 20) at the part's
@@ -337,11 +338,33 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "update_region_surfaces: %s\n", update.error.c_str());
     return 1;
   }
+  // With the parameterisation's solve history (DeformSession's way): the
+  // first target is solved, later ones are superposed where the history
+  // spans them (a distance is linear in the target). Without it every
+  // target is solved.
+  femorph::RepositionHistory history;
+  femorph::reposition_vertices(part.mesh, part.regions, local,
+                               femorph::update_region_surfaces(plan, part.regions, 21.0), points, &history);
   k = 0;
+  std::vector<Vec3> superposed, solved;
+  double superposition_error = 0;
   const double t_reposition = time_median(runs, [&] {
     const femorph::SurfaceUpdate u = femorph::update_region_surfaces(plan, part.regions, targets[k++ % 2]);
-    femorph::reposition_vertices(part.mesh, part.regions, local, u, points);
+    femorph::reposition_vertices(part.mesh, part.regions, local, u, superposed, &history);
   });
+  k = 0;
+  const double t_reposition_solved = time_median(runs, [&] {
+    const femorph::SurfaceUpdate u = femorph::update_region_surfaces(plan, part.regions, targets[k++ % 2]);
+    femorph::reposition_vertices(part.mesh, part.regions, local, u, solved);
+  });
+  for (const double target : targets) {
+    const femorph::SurfaceUpdate u = femorph::update_region_surfaces(plan, part.regions, target);
+    femorph::reposition_vertices(part.mesh, part.regions, local, u, superposed, &history);
+    femorph::reposition_vertices(part.mesh, part.regions, local, u, solved);
+    for (std::size_t v = 0; v < solved.size(); ++v) {
+      superposition_error = std::max(superposition_error, (superposed[v] - solved[v]).norm());
+    }
+  }
   const double t_reposition_whole = time_median(runs, [&] {
     const femorph::SurfaceUpdate u = femorph::update_region_surfaces(plan, part.regions, targets[k++ % 2]);
     femorph::reposition_vertices(part.mesh, part.regions, whole, u, points);
@@ -364,7 +387,10 @@ int main(int argc, char** argv) {
               median(local_surface), t_extract, median(local_inner), median(local_rows));
   print_row("  extract_deformable_region (not in the row above)", runs, t_region, NAN, "-");
   print_row("update_region_surfaces + reposition_vertices, local", runs, t_reposition, 0.005, "0.0074");
-  std::printf("  of which update_region_surfaces %.6f s\n", t_update);
+  std::printf("  of which update_region_surfaces %.6f s; %zu solutions stored in the history; largest "
+              "vertex difference to a solve %.2e mm\n",
+              t_update, history.inner.size(), superposition_error);
+  print_row("  the same, every target solved (no history)", runs, t_reposition_solved, NAN, "-");
   print_row("update_region_surfaces + reposition_vertices, whole", runs, t_reposition_whole, NAN, "-");
   std::printf("memory: whole-mesh parameterisation peak %.0f bytes per tet above the resident set before it "
               "(%.1f MB for %zu tets)\n",

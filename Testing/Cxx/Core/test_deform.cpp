@@ -273,3 +273,34 @@ TEST(DeformSession, RepositionsManyTargetsOnOneParameterisation) {
 
 }  // namespace
 }  // namespace femorph
+
+namespace femorph {
+namespace {
+
+// Superposition answers exactly the right sides in the span of solved ones
+// and refuses the others (which then need a solve).
+TEST(SolveHistory, SuperposesOnlyInsideTheSpan) {
+  const Eigen::MatrixXd map = Eigen::MatrixXd::Random(5, 7);  // a linear solution operator
+  const Eigen::MatrixXd k1 = Eigen::MatrixXd::Random(7, 3), k2 = Eigen::MatrixXd::Random(7, 3);
+  SolveHistory history;
+  Eigen::MatrixXd u;
+  EXPECT_FALSE(history.superpose(k1, 5, u));
+  EXPECT_TRUE(history.superpose(Eigen::MatrixXd::Zero(7, 3), 5, u));  // no move: no solve
+  EXPECT_EQ(u.norm(), 0.0);
+  history.add(k1, map * k1);
+  history.add(2.5 * k1, map * (2.5 * k1));  // no new direction
+  EXPECT_EQ(history.size(), 1u);
+  ASSERT_TRUE(history.superpose(-0.4 * k1, 5, u));
+  EXPECT_LE((u - map * (-0.4 * k1)).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_FALSE(history.superpose(k1 + k2, 5, u));
+  // The superposed part (a warm start): the solution of its projection on the span.
+  const double c = (k1.array() * (k1 + k2).array()).sum() / k1.squaredNorm();
+  EXPECT_LE((u - map * (c * k1)).cwiseAbs().maxCoeff(), 1e-12);
+  history.add(k2, map * k2);
+  ASSERT_TRUE(history.superpose(3 * k1 - 2 * k2, 5, u));
+  EXPECT_LE((u - map * (3 * k1 - 2 * k2)).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_FALSE(history.superpose(Eigen::MatrixXd::Random(6, 3), 5, u));  // another system's size
+}
+
+}  // namespace
+}  // namespace femorph
