@@ -172,7 +172,8 @@ std::vector<std::uint8_t> extract_deformable_region(const TetMesh& mesh, const D
 
 /// The parameterisation of 2.5.4.3: which vertices are fixed, mapped or
 /// solved, their coordinates and the factorised systems (Eq. 2.10). Built
-/// once; reposition_vertices then costs one map and three solves per target.
+/// once; reposition_vertices then costs one map and up to three solves per
+/// target (none where a RepositionHistory spans the change).
 struct VertexParameterization {
   enum Kind : std::uint8_t { Fixed = 0, Mapped = 1, Curve = 2, Surface = 3, Inner = 4 };
   std::vector<Kind> kind;                 ///< per vertex slot

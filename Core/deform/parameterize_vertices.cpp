@@ -4,7 +4,7 @@
 // between their two curve neighbours, surface vertices by 2D mean value
 // coordinates of their 1-ring, inner vertices by 3D mean value coordinates
 // of their 1-ring polyhedron. The unknowns of each kind form the sparse
-// system of Eq. 2.10, factorised here once.
+// system of Eq. 2.10, built here once (curves and surfaces factorised).
 #include "deform/deform.h"
 
 #include "mesh/surface_mesh.h"
