@@ -1,7 +1,10 @@
 // build_surface_mesh: the closed triangulated surface the segmentation works
 // on (thesis 2.4), with edge adjacency found through vertex stars in O(#F).
 #include "mesh/surface_mesh.h"
+#include "common/parallel.h"
 
+#include <functional>
+#include <array>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -47,9 +50,11 @@ Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, 
   // Normals and areas.
   out.normals.resize(nf);
   out.areas.resize(nf);
-  std::size_t degenerate = 0;
-#pragma omp parallel for schedule(static) reduction(+ : degenerate) if(nf >= kParallelMinItems)
-  for (index_t f = 0; f < nf; ++f) {
+  const std::size_t degenerate = parallel_reduce(
+      static_cast<long>(nf), std::size_t(0),
+      [&](long begin, long end, int) {
+    std::size_t degenerate = 0;
+    for (index_t f = static_cast<index_t>(begin); f < static_cast<index_t>(end); ++f) {
     const Vec3& a = p[tris[f][0]];
     const Vec3 e1 = p[tris[f][1]] - a, e2 = p[tris[f][2]] - a;
     const Vec3 c = e1.cross(e2);
@@ -62,7 +67,10 @@ Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, 
       out.normals[f].setZero();
       ++degenerate;
     }
-  }
+    }
+    return degenerate;
+      },
+      std::plus<std::size_t>());
 
   // Vertex -> triangle incidence (CSR, triangles in ascending order).
   out.vertex_offsets.assign(static_cast<std::size_t>(np) + 1, 0);
@@ -79,9 +87,12 @@ Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, 
   // Edge adjacency: the triangles sharing edge (a, b) are found in the star of
   // a. Each edge is counted once: by its lowest triangle.
   out.neighbors.resize(nf);
+  using EdgeCounts = std::array<std::size_t, 3>;  // open, nonmanifold, misoriented
+  const EdgeCounts counts = parallel_reduce(
+      static_cast<long>(nf), EdgeCounts{},
+      [&](long begin, long end, int) {
   std::size_t open = 0, nonmanifold = 0, misoriented = 0;
-#pragma omp parallel for schedule(static) reduction(+ : open, nonmanifold, misoriented) if(nf >= kParallelMinItems)
-  for (index_t f = 0; f < nf; ++f) {
+  for (index_t f = static_cast<index_t>(begin); f < static_cast<index_t>(end); ++f) {
     for (int k = 0; k < 3; ++k) {
       const index_t a = tris[f][k], b = tris[f][(k + 1) % 3];
       index_t other = kInvalidIndex, lowest = f;
@@ -114,6 +125,10 @@ Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, 
       }
     }
   }
+  return EdgeCounts{open, nonmanifold, misoriented};
+      },
+      [](EdgeCounts a, const EdgeCounts& b) { return EdgeCounts{a[0] + b[0], a[1] + b[1], a[2] + b[2]}; });
+  const std::size_t open = counts[0], nonmanifold = counts[1], misoriented = counts[2];
   // Mean edge length, each edge once, summed in a fixed order so that it does
   // not depend on the number of threads (thresholds downstream scale by it).
   double length_sum = 0;

@@ -12,6 +12,7 @@
 // busy 1, busy default) so that other load on the machine touches all four;
 // the table gives medians and checks that the output does not depend on the
 // thread count.
+#include "common/parallel.h"
 #include "improve/boundary_geometry.h"
 #include "improve/mesh_density.h"
 #include "improve/phased_odt.h"
@@ -41,8 +42,12 @@ namespace {
 using namespace femorph;
 using Clock = std::chrono::steady_clock;
 
-int default_threads() { return omp_get_max_threads(); }
-void set_threads(int n) { omp_set_num_threads(n); }
+int default_threads() { return parallel_threads(); }
+/// The pool's count, and OpenMP's for the loops still on it.
+void set_threads(int n) {
+  set_parallel_threads(n);
+  omp_set_num_threads(n);
+}
 
 /// A child process spinning on one core until stop() (or this program's end).
 class Spinner {
