@@ -3,8 +3,8 @@
 // operations; every complete walk is a candidate hexahedron (5 or 6 tets),
 // prism (3) or pyramid (2).
 #include "hex/tet_to_hex_internal.h"
+#include "common/parallel.h"
 
-#include <omp.h>
 
 #include <algorithm>
 #include <atomic>
@@ -181,21 +181,22 @@ bool search_candidates(const std::vector<Vec3>& points, const std::vector<Tet>& 
 
   std::atomic<std::size_t> chunks_done{ 0 };
   std::atomic<bool> aborted{ false };
-#pragma omp parallel if(nt >= static_cast<std::size_t>(kParallelMinItems))
-  {
-    std::vector<Candidate> local;  // one root's candidates
-    Walk w;
-    Vec3 corners[kMaxNodes];
-#pragma omp for schedule(dynamic, 1)
-    for (std::ptrdiff_t chunk = 0; chunk < static_cast<std::ptrdiff_t>(num_chunks); ++chunk) {
-      if (aborted.load(std::memory_order_relaxed)) continue;
+  // Progress is reported from the calling thread (worker 0) only.
+  parallel_for_chunks(
+      static_cast<long>(nt),
+      [&](long first_root, long end_root, int worker) {
+      if (aborted.load(std::memory_order_relaxed)) return;
+      std::vector<Candidate> local;  // one root's candidates
+      Walk w;
+      Vec3 corners[kMaxNodes];
+      const std::size_t chunk = static_cast<std::size_t>(first_root) / kRootsPerChunk;
       const std::size_t done = chunks_done.fetch_add(1, std::memory_order_relaxed);
-      if (progress && omp_get_thread_num() == 0 && !progress(static_cast<double>(done) / num_chunks))
+      if (progress && worker == 0 && !progress(static_cast<double>(done) / num_chunks))
         aborted = true;
       std::vector<Candidate>& out = buffers[chunk];
       std::array<std::size_t, 8>& count = counts[chunk];
-      const std::size_t end = std::min(nt, (chunk + 1) * kRootsPerChunk);
-      for (std::size_t root = chunk * kRootsPerChunk; root < end; ++root) {
+      const std::size_t end = static_cast<std::size_t>(end_root);
+      for (std::size_t root = static_cast<std::size_t>(first_root); root < end; ++root) {
         local.clear();
         const Tet& r = t[root];
         unsigned first_quads_ok = 0;
@@ -247,8 +248,8 @@ bool search_candidates(const std::vector<Vec3>& points, const std::vector<Tet>& 
         for (const Candidate& c : local) ++count[4 + kind_index(trees[c.tree].kind)];
         out.insert(out.end(), local.begin(), local.end());
       }
-    }
-  }
+      },
+      kParallelMinItems, static_cast<long>(kRootsPerChunk));
 
   if (aborted) return false;
   std::size_t total = 0;

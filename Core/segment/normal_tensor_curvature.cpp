@@ -1,4 +1,5 @@
 #include "segment/normal_tensor_curvature.h"
+#include "common/parallel.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -155,12 +156,12 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   std::vector<char> evaluated(np, 0);
 
   // Steps 1-2: normal tensor, e1, refined normal.
-#pragma omp parallel if(np >= kParallelMinHeavyItems)
-  {
+  parallel_for_chunks(
+      np,
+      [&](long begin, long end, int) {
     std::vector<index_t> ring;
     ring.reserve(64);
-#pragma omp for schedule(dynamic, 256)
-    for (index_t i = 0; i < np; ++i) {
+    for (index_t i = static_cast<index_t>(begin); i < static_cast<index_t>(end); ++i) {
       Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
       Vec3 mean_normal = Vec3::Zero();
       for (index_t q = surface.vertex_offsets[i]; q < surface.vertex_offsets[i + 1]; ++q) {
@@ -202,7 +203,8 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
       frame_e2[i] = f1;
       evaluated[i] = 1;
     }
-  }
+      },
+      kParallelMinHeavyItems, 256);
 
   // Steps 3-4: Eqs. 2.2-2.3 in the tangent frame of the refined normal.
   // Unknowns (a, b, c, D, E, F, G): S = [a b; b c] and
@@ -211,8 +213,10 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   //   r = S g + grad C(g)                   (unless j is on a sharp edge)
   //   -z / |g| = (g^T S g / 2 + C(g)) / |g|  (divided by |g| to weigh like r)
   // Lengths scaled by the 1-ring's mean edge length.
-#pragma omp parallel for schedule(dynamic, 256) if(np >= kParallelMinHeavyItems)
-  for (index_t i = 0; i < np; ++i) {
+  parallel_for_chunks(
+      static_cast<long>(np),
+      [&](long begin, long end, int) {
+        for (index_t i = static_cast<index_t>(begin); i < static_cast<index_t>(end); ++i) {
     if (!evaluated[i]) continue;
     const Vec3& n = c.vertex_normal[i];
     const Vec3 t1 = tangent_towards(n, frame_e2[i]), t2 = n.cross(t1);
@@ -275,6 +279,8 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
     c.vertex_dir_max[i] = dir_min.cross(n);  // (dir_max, dir_min, n) right-handed
     c.vertex_valid[i] = 1;
   }
+      },
+      kParallelMinHeavyItems, 256);
 
   // Per triangle: mean over the valid vertices, directions aligned with the
   // first valid vertex's.
@@ -283,8 +289,10 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   c.triangle_k_min.assign(nf, 0.0);
   c.triangle_dir_max.assign(nf, Vec3::Zero());
   c.triangle_dir_min.assign(nf, Vec3::Zero());
-#pragma omp parallel for schedule(static) if(nf >= kParallelMinItems)
-  for (index_t f = 0; f < nf; ++f) {
+  parallel_for_chunks(
+      static_cast<long>(nf),
+      [&](long begin, long end, int) {
+        for (index_t f = static_cast<index_t>(begin); f < static_cast<index_t>(end); ++f) {
     int count = 0;
     double k_max = 0, k_min = 0;
     Vec3 dir_max = Vec3::Zero(), dir_min = Vec3::Zero();
@@ -305,6 +313,8 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
     if (dir_max.squaredNorm() > 0) c.triangle_dir_max[f] = canonical_sign(dir_max.normalized());
     if (dir_min.squaredNorm() > 0) c.triangle_dir_min[f] = canonical_sign(dir_min.normalized());
   }
+      },
+      kParallelMinItems);
   return c;
 }
 

@@ -22,7 +22,6 @@
 #include "test_meshes.h"
 #include "test_surfaces.h"
 
-#include <omp.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -43,11 +42,7 @@ using namespace femorph;
 using Clock = std::chrono::steady_clock;
 
 int default_threads() { return parallel_threads(); }
-/// The pool's count, and OpenMP's for the loops still on it.
-void set_threads(int n) {
-  set_parallel_threads(n);
-  omp_set_num_threads(n);
-}
+void set_threads(int n) { set_parallel_threads(n); }
 
 /// A child process spinning on one core until stop() (or this program's end).
 class Spinner {
