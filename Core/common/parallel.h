@@ -117,11 +117,9 @@ void parallel_for_worker(long n, F&& f, long min_items = kParallelMinItems, long
 /// combine must be associative (sums of integers, min, max, concatenation)
 /// for the result not to depend on it.
 template <class T, class Body, class Combine>
-T parallel_reduce(long n, T init, Body&& body, Combine&& combine, long min_items = kParallelMinItems,
-                  long chunk = 0) {
+T parallel_reduce(long n, T init, Body&& body, Combine&& combine, long min_items = kParallelMinItems, long chunk = 0) {
   if (n <= 0) return init;
-  if (n < min_items) chunk = n;  // serial: one chunk
-  else if (chunk <= 0) chunk = detail::auto_chunk(n);
+  if (n < min_items || chunk <= 0) chunk = n < min_items ? n : detail::auto_chunk(n);  // serial: one chunk
   const long num_chunks = (n + chunk - 1) / chunk;
   std::vector<T> partial(static_cast<std::size_t>(num_chunks));
   parallel_for_chunks(

@@ -41,8 +41,8 @@ void radix_sort(std::vector<Key>& keys) {
         static_cast<long>(kBlocks),
         [&](long begin, long end, int) {
           for (int b = static_cast<int>(begin); b < static_cast<int>(end); ++b)
-      for (std::size_t i = bounds[b]; i < bounds[b + 1]; ++i)
-        ++counts[b * kBuckets + ((keys[i].key >> shift) & (kBuckets - 1))];
+            for (std::size_t i = bounds[b]; i < bounds[b + 1]; ++i)
+              ++counts[b * kBuckets + ((keys[i].key >> shift) & (kBuckets - 1))];
         },
         parallel_when(parallel), 1);
     // Offsets: bucket-major, then block order (stability).
@@ -57,8 +57,8 @@ void radix_sort(std::vector<Key>& keys) {
         static_cast<long>(kBlocks),
         [&](long begin, long end, int) {
           for (int b = static_cast<int>(begin); b < static_cast<int>(end); ++b)
-      for (std::size_t i = bounds[b]; i < bounds[b + 1]; ++i)
-        other[counts[b * kBuckets + ((keys[i].key >> shift) & (kBuckets - 1))]++] = keys[i];
+            for (std::size_t i = bounds[b]; i < bounds[b + 1]; ++i)
+              other[counts[b * kBuckets + ((keys[i].key >> shift) & (kBuckets - 1))]++] = keys[i];
         },
         parallel_when(parallel), 1);
     keys.swap(other);
@@ -80,7 +80,8 @@ void sort_candidates(std::vector<Candidate>& candidates) {
   parallel_for_chunks(
       static_cast<long>(count),
       [&](long begin, long end, int) {
-        for (std::ptrdiff_t i = static_cast<std::ptrdiff_t>(begin); i < static_cast<std::ptrdiff_t>(end); ++i) sorted[i] = candidates[keys[i].index];
+        for (std::ptrdiff_t i = static_cast<std::ptrdiff_t>(begin); i < static_cast<std::ptrdiff_t>(end); ++i)
+          sorted[i] = candidates[keys[i].index];
       },
       kParallelMinItems);
   candidates.swap(sorted);
@@ -107,7 +108,7 @@ void adopt_candidates_greedy(const std::vector<Candidate>& candidates,
       static_cast<long>(n),
       [&](long begin, long end, int) {
         for (std::ptrdiff_t i = static_cast<std::ptrdiff_t>(begin); i < static_cast<std::ptrdiff_t>(end); ++i)
-    cells[i] = candidate_cell(candidates[adopted[i]], adopted[i], points, tets, adjacency);
+          cells[i] = candidate_cell(candidates[adopted[i]], adopted[i], points, tets, adjacency);
       },
       kParallelMinItems);
 }

@@ -165,11 +165,11 @@ Status recombine_tetrahedra(const std::vector<Vec3>& points, const std::vector<T
       static_cast<long>(nc),
       [&](long begin, long end, int) {
         for (std::ptrdiff_t c = static_cast<std::ptrdiff_t>(begin); c < static_cast<std::ptrdiff_t>(end); ++c) {
-    Vec3 corners[kMaxNodes];
-    const index_t* nodes = out.nodes(static_cast<index_t>(c));
-    for (index_t k = 0; k < out.node_count(static_cast<index_t>(c)); ++k) corners[k] = points[nodes[k]];
-    result.min_scaled_jacobian[c] = min_scaled_jacobian(out.kinds[c], corners);
-  }
+          Vec3 corners[kMaxNodes];
+          const index_t* nodes = out.nodes(static_cast<index_t>(c));
+          for (index_t k = 0; k < out.node_count(static_cast<index_t>(c)); ++k) corners[k] = points[nodes[k]];
+          result.min_scaled_jacobian[c] = min_scaled_jacobian(out.kinds[c], corners);
+        }
       },
       kParallelMinItems);
   for (CellKind kind : out.kinds) ++stats.cells[static_cast<int>(kind)];

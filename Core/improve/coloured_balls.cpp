@@ -61,16 +61,19 @@ ColouredBalls coloured_balls(const TetMesh& mesh, const std::vector<std::uint8_t
   // of walking balls.
   const std::unique_ptr<index_t[]> lower(new index_t[3 * tets.size() + 1]);
   std::vector<index_t> lower_count(ids.size(), 0);
-  parallel_for(nids, [&](long i) {
-    index_t* out = lower.get() + 3 * static_cast<std::size_t>(start[static_cast<std::size_t>(i)]);
-    index_t n = 0;
-    for (index_t k = start[static_cast<std::size_t>(i)]; k < start[static_cast<std::size_t>(i) + 1]; ++k)
-      for (const index_t w : mesh.tet(tets[static_cast<std::size_t>(k)])) {
-        const index_t j = index[w];
-        if (j >= 0 && j < i && std::find(out, out + n, j) == out + n) out[n++] = j;
-      }
-    lower_count[static_cast<std::size_t>(i)] = n;
-  }, min_items);
+  parallel_for(
+      nids,
+      [&](long i) {
+        index_t* out = lower.get() + 3 * static_cast<std::size_t>(start[static_cast<std::size_t>(i)]);
+        index_t n = 0;
+        for (index_t k = start[static_cast<std::size_t>(i)]; k < start[static_cast<std::size_t>(i) + 1]; ++k)
+          for (const index_t w : mesh.tet(tets[static_cast<std::size_t>(k)])) {
+            const index_t j = index[w];
+            if (j >= 0 && j < i && std::find(out, out + n, j) == out + n) out[n++] = j;
+          }
+        lower_count[static_cast<std::size_t>(i)] = n;
+      },
+      min_items);
   std::vector<int> colour(ids.size(), -1);
   std::vector<char> used;
   int colours = 0;

@@ -14,7 +14,6 @@
 #include <limits>
 #include <utility>
 
-
 namespace femorph {
 
 namespace {

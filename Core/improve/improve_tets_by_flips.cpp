@@ -12,7 +12,6 @@
 #include <limits>
 #include <utility>
 
-
 namespace femorph {
 
 namespace {
@@ -191,8 +190,7 @@ class FlipEvaluator {
 FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions& options) {
   FlipImproveReport report;
   // One evaluator (scratch) per thread: candidates are evaluated read only.
-  std::vector<FlipEvaluator> evals(static_cast<std::size_t>(parallel_threads()),
-                                   FlipEvaluator(mesh, options));
+  std::vector<FlipEvaluator> evals(static_cast<std::size_t>(parallel_threads()), FlipEvaluator(mesh, options));
   FlipEvaluator& eval = evals[0];
   const std::size_t max_visits = options.max_visits ? options.max_visits : 20 * mesh.live_tets() + 1;
   std::deque<index_t> queue;

@@ -12,7 +12,6 @@
 #include <cstdint>
 #include <limits>
 
-
 namespace femorph {
 
 namespace {
@@ -65,22 +64,28 @@ void fill_from_neighbours(const std::array<int, 3>& dims, std::vector<double>& v
     const long layer_size = static_cast<long>(layer.size());
     const bool parallel_layer = layer_size >= kParallelMinItems;
     layer_values.assign(layer.size(), 0.0);
-    parallel_for(layer_size, [&](long n) {
-      double sum = 0;
-      int count = 0;
-      for_each_neighbour(layer[static_cast<std::size_t>(n)], [&](long r) {
-        if (known[static_cast<std::size_t>(r)]) {
-          sum += values[static_cast<std::size_t>(r)];
-          ++count;
-        }
-      });
-      layer_values[static_cast<std::size_t>(n)] = count ? sum / count : 0.0;
-    }, parallel_when(parallel_layer));
-    parallel_for(layer_size, [&](long n) {
-      const std::size_t q = static_cast<std::size_t>(layer[static_cast<std::size_t>(n)]);
-      values[q] = layer_values[static_cast<std::size_t>(n)];
-      known[q] = 1;
-    }, parallel_when(parallel_layer));
+    parallel_for(
+        layer_size,
+        [&](long n) {
+          double sum = 0;
+          int count = 0;
+          for_each_neighbour(layer[static_cast<std::size_t>(n)], [&](long r) {
+            if (known[static_cast<std::size_t>(r)]) {
+              sum += values[static_cast<std::size_t>(r)];
+              ++count;
+            }
+          });
+          layer_values[static_cast<std::size_t>(n)] = count ? sum / count : 0.0;
+        },
+        parallel_when(parallel_layer));
+    parallel_for(
+        layer_size,
+        [&](long n) {
+          const std::size_t q = static_cast<std::size_t>(layer[static_cast<std::size_t>(n)]);
+          values[q] = layer_values[static_cast<std::size_t>(n)];
+          known[q] = 1;
+        },
+        parallel_when(parallel_layer));
     // The next layer: the unqueued neighbours, each taken by one thread.
     layer = parallel_reduce(
         layer_size, std::vector<long>(),
@@ -109,21 +114,24 @@ DensityError density_error_of(const std::vector<Vec3>& points, const std::vector
   const long n = static_cast<long>(edges.size()), chunks = (n + kChunk - 1) / kChunk;
   std::vector<double> chunk_sum(static_cast<std::size_t>(chunks), 0.0), chunk_max(chunk_sum.size(), 0.0);
   std::vector<std::size_t> chunk_count(chunk_sum.size(), 0);
-  parallel_for_chunks(n, [&](long begin, long end, int) {
-    const std::size_t i = static_cast<std::size_t>(begin / kChunk);
-    for (long k = begin; k < end; ++k) {
-      const Edge& e = edges[static_cast<std::size_t>(k)];
-      const Vec3& a = points[e.first];
-      const Vec3& b = points[e.second];
-      const double length = (b - a).norm();
-      const double rho = grid.density_at(0.5 * (a + b), lookup);
-      if (!(length > 0) || !(rho > 0)) continue;
-      const double eps = std::abs(1.0 / length - rho) / rho;  // Eq. 2.35
-      chunk_sum[i] += eps;
-      chunk_max[i] = std::max(chunk_max[i], eps);
-      ++chunk_count[i];
-    }
-  }, kParallelMinItems, kChunk);
+  parallel_for_chunks(
+      n,
+      [&](long begin, long end, int) {
+        const std::size_t i = static_cast<std::size_t>(begin / kChunk);
+        for (long k = begin; k < end; ++k) {
+          const Edge& e = edges[static_cast<std::size_t>(k)];
+          const Vec3& a = points[e.first];
+          const Vec3& b = points[e.second];
+          const double length = (b - a).norm();
+          const double rho = grid.density_at(0.5 * (a + b), lookup);
+          if (!(length > 0) || !(rho > 0)) continue;
+          const double eps = std::abs(1.0 / length - rho) / rho;  // Eq. 2.35
+          chunk_sum[i] += eps;
+          chunk_max[i] = std::max(chunk_max[i], eps);
+          ++chunk_count[i];
+        }
+      },
+      kParallelMinItems, kChunk);
   double sum = 0;
   for (std::size_t i = 0; i < chunk_sum.size(); ++i) {
     sum += chunk_sum[i];
@@ -233,60 +241,66 @@ bool DensityGrid::build(const std::vector<Vec3>& points, const std::vector<Tet>&
   const long ntotal = static_cast<long>(total);
   parallel_for(ntotal,
                [&](long g) { owner[static_cast<std::size_t>(g)].store(kInvalidIndex, std::memory_order_relaxed); });
-  parallel_for(ntets, [&](long ti) {
-    const Tet& t = tets[static_cast<std::size_t>(ti)];
-    const Vec3 p[4] = {points[t[0]], points[t[1]], points[t[2]], points[t[3]]};
-    const double volume = signed_volume6(p[0], p[1], p[2], p[3]);
-    if (volume == 0 || !std::isfinite(volume)) return;
-    Vec3 tlo = p[0], thi = p[0];
-    for (int q = 1; q < 4; ++q) {
-      tlo = tlo.cwiseMin(p[q]);
-      thi = thi.cwiseMax(p[q]);
-    }
-    int i0[3], i1[3];
-    for (int a = 0; a < 3; ++a) {
-      i0[a] = std::max(0, static_cast<int>(std::ceil((tlo[a] - origin_[a]) / h_ - kTol)));
-      i1[a] = std::min(n_[a], static_cast<int>(std::floor((thi[a] - origin_[a]) / h_ + kTol)));
-    }
-    // Barycentric coordinates as an affine function of the grid point: a
-    // cheap first test that skips most of the box (a tet fills a sixth of
-    // it or less). Its tolerance is loose and it is left out for flat tets
-    // (6V / L^3 < 1e-4), so value_in alone decides which points are inside.
-    Eigen::Matrix3d edges;
-    edges << p[1] - p[0], p[2] - p[0], p[3] - p[0];
-    const double longest = std::max({edges.col(0).norm(), edges.col(1).norm(), edges.col(2).norm(),
-                                     (p[2] - p[1]).norm(), (p[3] - p[1]).norm(), (p[3] - p[2]).norm()});
-    const bool prefilter = std::abs(volume) > 1e-4 * longest * longest * longest;
-    const Eigen::Matrix3d to_bary = prefilter ? Eigen::Matrix3d(edges.inverse()) : Eigen::Matrix3d::Zero();
-    constexpr double kLoose = 1e-6;
-    for (int k = i0[2]; k <= i1[2]; ++k)
-      for (int j = i0[1]; j <= i1[1]; ++j)
-        for (int i = i0[0]; i <= i1[0]; ++i) {
-          if (prefilter) {
-            const Vec3 l = to_bary * (origin_ + h_ * Vec3(i, j, k) - p[0]);
-            if (!(l.minCoeff() >= -kLoose && l.sum() <= 1 + kLoose)) continue;
-          }
-          std::atomic<index_t>& o = owner[point_id(i, j, k)];
-          index_t current = o.load(std::memory_order_relaxed);
-          if (current != kInvalidIndex && current < ti) continue;
-          if (!(value_in(t, i, j, k) > 0)) continue;
-          while ((current == kInvalidIndex || current > ti) &&
-                 !o.compare_exchange_weak(current, static_cast<index_t>(ti), std::memory_order_relaxed)) {
-          }
+  parallel_for(
+      ntets,
+      [&](long ti) {
+        const Tet& t = tets[static_cast<std::size_t>(ti)];
+        const Vec3 p[4] = {points[t[0]], points[t[1]], points[t[2]], points[t[3]]};
+        const double volume = signed_volume6(p[0], p[1], p[2], p[3]);
+        if (volume == 0 || !std::isfinite(volume)) return;
+        Vec3 tlo = p[0], thi = p[0];
+        for (int q = 1; q < 4; ++q) {
+          tlo = tlo.cwiseMin(p[q]);
+          thi = thi.cwiseMax(p[q]);
         }
-  }, kParallelMinItems, 1024);
+        int i0[3], i1[3];
+        for (int a = 0; a < 3; ++a) {
+          i0[a] = std::max(0, static_cast<int>(std::ceil((tlo[a] - origin_[a]) / h_ - kTol)));
+          i1[a] = std::min(n_[a], static_cast<int>(std::floor((thi[a] - origin_[a]) / h_ + kTol)));
+        }
+        // Barycentric coordinates as an affine function of the grid point: a
+        // cheap first test that skips most of the box (a tet fills a sixth of
+        // it or less). Its tolerance is loose and it is left out for flat tets
+        // (6V / L^3 < 1e-4), so value_in alone decides which points are inside.
+        Eigen::Matrix3d edges;
+        edges << p[1] - p[0], p[2] - p[0], p[3] - p[0];
+        const double longest = std::max({edges.col(0).norm(), edges.col(1).norm(), edges.col(2).norm(),
+                                         (p[2] - p[1]).norm(), (p[3] - p[1]).norm(), (p[3] - p[2]).norm()});
+        const bool prefilter = std::abs(volume) > 1e-4 * longest * longest * longest;
+        const Eigen::Matrix3d to_bary = prefilter ? Eigen::Matrix3d(edges.inverse()) : Eigen::Matrix3d::Zero();
+        constexpr double kLoose = 1e-6;
+        for (int k = i0[2]; k <= i1[2]; ++k)
+          for (int j = i0[1]; j <= i1[1]; ++j)
+            for (int i = i0[0]; i <= i1[0]; ++i) {
+              if (prefilter) {
+                const Vec3 l = to_bary * (origin_ + h_ * Vec3(i, j, k) - p[0]);
+                if (!(l.minCoeff() >= -kLoose && l.sum() <= 1 + kLoose)) continue;
+              }
+              std::atomic<index_t>& o = owner[point_id(i, j, k)];
+              index_t current = o.load(std::memory_order_relaxed);
+              if (current != kInvalidIndex && current < ti) continue;
+              if (!(value_in(t, i, j, k) > 0)) continue;
+              while ((current == kInvalidIndex || current > ti) &&
+                     !o.compare_exchange_weak(current, static_cast<index_t>(ti), std::memory_order_relaxed)) {
+              }
+            }
+      },
+      kParallelMinItems, 1024);
   const int row = n_[0] + 1, rows = (n_[1] + 1) * (n_[2] + 1);
-  parallel_for(rows, [&](long rl) {
-    const int r = static_cast<int>(rl);
-    for (int i = 0; i < row; ++i) {
-      const int j = r % (n_[1] + 1), k = r / (n_[1] + 1);
-      const std::size_t g = point_id(i, j, k);
-      const index_t t = owner[g].load(std::memory_order_relaxed);
-      if (t == kInvalidIndex) continue;
-      raw_points_[g] = value_in(tets[static_cast<std::size_t>(t)], i, j, k);
-      known[g] = 1;
-    }
-  }, parallel_when(ntotal >= kParallelMinItems));
+  parallel_for(
+      rows,
+      [&](long rl) {
+        const int r = static_cast<int>(rl);
+        for (int i = 0; i < row; ++i) {
+          const int j = r % (n_[1] + 1), k = r / (n_[1] + 1);
+          const std::size_t g = point_id(i, j, k);
+          const index_t t = owner[g].load(std::memory_order_relaxed);
+          if (t == kInvalidIndex) continue;
+          raw_points_[g] = value_in(tets[static_cast<std::size_t>(t)], i, j, k);
+          known[g] = 1;
+        }
+      },
+      parallel_when(ntotal >= kParallelMinItems));
   if (std::find(known.begin(), known.end(), 1) == known.end()) {
     *this = DensityGrid();
     return false;
@@ -304,25 +318,28 @@ bool DensityGrid::build(const std::vector<Vec3>& points, const std::vector<Tet>&
   cell_values_.assign(static_cast<std::size_t>(n_[0]) * n_[1] * n_[2], 0.0);
   std::vector<char> cell_known(cell_values_.size(), 0);
   const int cell_rows = n_[1] * n_[2];
-  parallel_for(cell_rows, [&](long rl) {
-      const int r = static_cast<int>(rl);
-      for (int i = 0; i < n_[0]; ++i) {
-        const int j = r % n_[1], k = r / n_[1];
-        double sum = 0;
-        int count = 0;
-        for (int c = 0; c < 8; ++c) {
-          const double v = raw_points_[point_id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))];
-          if (v > 0) {
-            sum += v;
-            ++count;
+  parallel_for(
+      cell_rows,
+      [&](long rl) {
+        const int r = static_cast<int>(rl);
+        for (int i = 0; i < n_[0]; ++i) {
+          const int j = r % n_[1], k = r / n_[1];
+          double sum = 0;
+          int count = 0;
+          for (int c = 0; c < 8; ++c) {
+            const double v = raw_points_[point_id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))];
+            if (v > 0) {
+              sum += v;
+              ++count;
+            }
+          }
+          if (count) {
+            cell_values_[cell_id(i, j, k)] = sum / count;
+            cell_known[cell_id(i, j, k)] = 1;
           }
         }
-        if (count) {
-          cell_values_[cell_id(i, j, k)] = sum / count;
-          cell_known[cell_id(i, j, k)] = 1;
-        }
-      }
-  }, parallel_when(static_cast<long>(cell_values_.size()) >= kParallelMinItems));
+      },
+      parallel_when(static_cast<long>(cell_values_.size()) >= kParallelMinItems));
   fill_from_neighbours(n_, cell_values_, cell_known);
   return true;
 }

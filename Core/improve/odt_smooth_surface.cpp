@@ -17,7 +17,6 @@
 #include <cmath>
 #include <limits>
 
-
 namespace femorph {
 
 namespace {
@@ -210,49 +209,49 @@ SurfaceStencils surface_stencils(const TetMesh& mesh, const BoundaryGeometry& ge
   parallel_for_chunks(
       static_cast<long>(candidates.size()),
       [&](long begin, long end, int worker) {
-      std::vector<index_t> ball, link, edge_tets, edge_others;
-      std::vector<std::array<index_t, 3>> ring;
-      TetMesh::WalkMarks& my_marks = marks[static_cast<std::size_t>(worker)];
-      SurfaceStencils& out = parts[static_cast<std::size_t>(begin) / kChunk];
-      out.ball_start.push_back(0);
-      out.ring_start.push_back(0);
-      out.link_start.push_back(0);
-      for (std::size_t k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
-        const index_t v = candidates[k];
-        mesh.vertex_ball(v, ball, my_marks);
-        const VertexConstraint c = vertex_constraint(mesh, geometry, v, ball);
-        if (c.kind != VertexConstraint::Surface && c.kind != VertexConstraint::Discrete) continue;
-        // The 1-ring of boundary triangles: boundary faces of the ball.
-        ring.clear();
-        link.clear();
-        for (index_t t : ball) {
-          const Tet& T = mesh.tet(t);
-          for (int f = 0; f < 4; ++f) {
-            if (T[f] == v || !mesh.is_boundary_face(t, f)) continue;
-            std::array<index_t, 3> face{T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]};
-            while (face[0] != v) std::rotate(face.begin(), face.begin() + 1, face.end());
-            ring.push_back({face[1], face[2], t});
-            for (int i = 1; i < 3; ++i)
-              if (std::find(link.begin(), link.end(), face[i]) == link.end()) link.push_back(face[i]);
+        std::vector<index_t> ball, link, edge_tets, edge_others;
+        std::vector<std::array<index_t, 3>> ring;
+        TetMesh::WalkMarks& my_marks = marks[static_cast<std::size_t>(worker)];
+        SurfaceStencils& out = parts[static_cast<std::size_t>(begin) / kChunk];
+        out.ball_start.push_back(0);
+        out.ring_start.push_back(0);
+        out.link_start.push_back(0);
+        for (std::size_t k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
+          const index_t v = candidates[k];
+          mesh.vertex_ball(v, ball, my_marks);
+          const VertexConstraint c = vertex_constraint(mesh, geometry, v, ball);
+          if (c.kind != VertexConstraint::Surface && c.kind != VertexConstraint::Discrete) continue;
+          // The 1-ring of boundary triangles: boundary faces of the ball.
+          ring.clear();
+          link.clear();
+          for (index_t t : ball) {
+            const Tet& T = mesh.tet(t);
+            for (int f = 0; f < 4; ++f) {
+              if (T[f] == v || !mesh.is_boundary_face(t, f)) continue;
+              std::array<index_t, 3> face{T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]};
+              while (face[0] != v) std::rotate(face.begin(), face.begin() + 1, face.end());
+              ring.push_back({face[1], face[2], t});
+              for (int i = 1; i < 3; ++i)
+                if (std::find(link.begin(), link.end(), face[i]) == link.end()) link.push_back(face[i]);
+            }
           }
+          if (ring.size() < 3) continue;
+          out.vertex.push_back(v);
+          out.constraint.push_back(c);
+          out.ball.insert(out.ball.end(), ball.begin(), ball.end());
+          out.ball_start.push_back(out.ball.size());
+          out.link.insert(out.link.end(), link.begin(), link.end());
+          out.link_start.push_back(out.link.size());
+          for (const auto& r : ring) {
+            out.ring.push_back(r);
+            std::array<int, 2> local{};
+            for (int i = 0; i < 2; ++i)
+              local[i] = static_cast<int>(std::find(link.begin(), link.end(), r[i]) - link.begin());
+            out.ring_local.push_back(local);
+            out.opposite.push_back(opposite_vertex(mesh, r[0], r[1], v, c.region_a, r[2], edge_tets, edge_others));
+          }
+          out.ring_start.push_back(out.ring.size());
         }
-        if (ring.size() < 3) continue;
-        out.vertex.push_back(v);
-        out.constraint.push_back(c);
-        out.ball.insert(out.ball.end(), ball.begin(), ball.end());
-        out.ball_start.push_back(out.ball.size());
-        out.link.insert(out.link.end(), link.begin(), link.end());
-        out.link_start.push_back(out.link.size());
-        for (const auto& r : ring) {
-          out.ring.push_back(r);
-          std::array<int, 2> local{};
-          for (int i = 0; i < 2; ++i)
-            local[i] = static_cast<int>(std::find(link.begin(), link.end(), r[i]) - link.begin());
-          out.ring_local.push_back(local);
-          out.opposite.push_back(opposite_vertex(mesh, r[0], r[1], v, c.region_a, r[2], edge_tets, edge_others));
-        }
-        out.ring_start.push_back(out.ring.size());
-      }
       },
       static_cast<long>(2 * kChunk), static_cast<long>(kChunk));
   SurfaceStencils out;

@@ -17,7 +17,6 @@
 #include <sstream>
 #include <string>
 
-
 namespace femorph {
 
 namespace {
@@ -112,7 +111,9 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
         }
         return k;
       },
-      [](Signs a, const Signs& b) { return Signs{a[0] + b[0], a[1] + b[1], a[2] + b[2]}; });
+      [](Signs a, const Signs& b) {
+        return Signs{a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+      });
   std::size_t npos = signs[0], nneg = signs[1];
   const std::size_t nzero = signs[2];
   std::vector<Tet> regions = options.face_regions;
@@ -150,7 +151,8 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
   std::vector<index_t> start(static_cast<std::size_t>(nv) + 1, 0);
   const std::unique_ptr<FaceRecord[]> faces(new FaceRecord[4 * nt]);
   {
-    const long parts = ntets >= kParallelMinItems ? parallel_threads() + 2L : 1;
+    const int threads = ntets >= kParallelMinItems ? parallel_threads() : 1;
+    const long parts = threads > 1 ? threads + 2L : 1;
     const long part = std::max(1L, (ntets + parts - 1) / parts);
     std::vector<std::vector<index_t>> fill(static_cast<std::size_t>(parts));
     parallel_for_chunks(
@@ -208,37 +210,40 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
   const Matches matches = parallel_reduce(
       nv, Matches{},
       [&](long vbegin, long vend, int) {
-  std::size_t overshared = 0, mismatched = 0, boundary = 0;
-  for (index_t v = static_cast<index_t>(vbegin); v < static_cast<index_t>(vend); ++v)
-  for (std::size_t i = static_cast<std::size_t>(start[v]), last = static_cast<std::size_t>(start[v + 1]); i < last;) {
-    std::size_t j = i + 1;
-    while (j < last && faces[j].same_face(faces[i])) ++j;
-    if (j - i == 1) {
-      ++boundary;
-      const index_t t = faces[i].code >> 2, f = faces[i].code & 3;
-      const index_t region = regions.empty() ? kInvalidIndex : std::max<index_t>(regions[t][f], -1);
-      rec_[t].n[f] = internal::boundary_code(region);
-    } else if (j - i == 2) {
-      const index_t a = faces[i].code, b = faces[i + 1].code;
-      rec_[a >> 2].n[a & 3] = b;
-      rec_[b >> 2].n[b & 3] = a;
-      // Two tets agree on orientation when they traverse the shared face in
-      // opposite cyclic orders.
-      if (faces[i].odd == faces[i + 1].odd) {
-        ++mismatched;
-        const index_t ta = a >> 2, tb = b >> 2;
-        // Blame the tet whose volume sign is the minority one.
-        __atomic_store_n(&offending[sign[ta] < 0 ? ta : (sign[tb] < 0 ? tb : ta)], char(1), __ATOMIC_RELAXED);
-      }
-    } else {
-      overshared += j - i;
-    }
-    i = j;
-  }
-  return Matches{overshared, mismatched, boundary};
+        std::size_t overshared = 0, mismatched = 0, boundary = 0;
+        for (index_t v = static_cast<index_t>(vbegin); v < static_cast<index_t>(vend); ++v)
+          for (std::size_t i = static_cast<std::size_t>(start[v]), last = static_cast<std::size_t>(start[v + 1]);
+               i < last;) {
+            std::size_t j = i + 1;
+            while (j < last && faces[j].same_face(faces[i])) ++j;
+            if (j - i == 1) {
+              ++boundary;
+              const index_t t = faces[i].code >> 2, f = faces[i].code & 3;
+              const index_t region = regions.empty() ? kInvalidIndex : std::max<index_t>(regions[t][f], -1);
+              rec_[t].n[f] = internal::boundary_code(region);
+            } else if (j - i == 2) {
+              const index_t a = faces[i].code, b = faces[i + 1].code;
+              rec_[a >> 2].n[a & 3] = b;
+              rec_[b >> 2].n[b & 3] = a;
+              // Two tets agree on orientation when they traverse the shared face in
+              // opposite cyclic orders.
+              if (faces[i].odd == faces[i + 1].odd) {
+                ++mismatched;
+                const index_t ta = a >> 2, tb = b >> 2;
+                // Blame the tet whose volume sign is the minority one.
+                __atomic_store_n(&offending[sign[ta] < 0 ? ta : (sign[tb] < 0 ? tb : ta)], char(1), __ATOMIC_RELAXED);
+              }
+            } else {
+              overshared += j - i;
+            }
+            i = j;
+          }
+        return Matches{overshared, mismatched, boundary};
       },
-      [](Matches a, const Matches& b) { return Matches{a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }, kParallelMinItems,
-      4096);
+      [](Matches a, const Matches& b) {
+        return Matches{a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+      },
+      kParallelMinItems, 4096);
   const std::size_t overshared = matches[0], mismatched = matches[1], boundary = matches[2];
   if (overshared)
     return fail("the mesh is not conformal: " + plural(overshared, "tet face is", "tet faces are") +

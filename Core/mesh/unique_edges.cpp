@@ -49,17 +49,17 @@ std::vector<Edge> bucket_edges(index_t num_vertices, long num_tets, TetAt&& tet,
   parallel_for_worker(
       static_cast<long>(nv),
       [&](long ai, int worker) {
-      std::vector<index_t>& seen = seen_by[static_cast<std::size_t>(worker)];
-      if (seen.empty()) seen.assign(nv, kInvalidIndex);
-      const std::size_t a = static_cast<std::size_t>(ai);
-      auto first = other.begin() + start[a], last = first;
-      for (auto it = first; it != other.begin() + start[a + 1]; ++it)
-        if (seen[static_cast<std::size_t>(*it)] != static_cast<index_t>(a)) {
-          seen[static_cast<std::size_t>(*it)] = static_cast<index_t>(a);
-          *last++ = *it;
-        }
-      std::sort(first, last);
-      unique_count[a + 1] = static_cast<index_t>(last - first);
+        std::vector<index_t>& seen = seen_by[static_cast<std::size_t>(worker)];
+        if (seen.empty()) seen.assign(nv, kInvalidIndex);
+        const std::size_t a = static_cast<std::size_t>(ai);
+        auto first = other.begin() + start[a], last = first;
+        for (auto it = first; it != other.begin() + start[a + 1]; ++it)
+          if (seen[static_cast<std::size_t>(*it)] != static_cast<index_t>(a)) {
+            seen[static_cast<std::size_t>(*it)] = static_cast<index_t>(a);
+            *last++ = *it;
+          }
+        std::sort(first, last);
+        unique_count[a + 1] = static_cast<index_t>(last - first);
       },
       min_items, 4096);
   for (std::size_t v = 0; v < nv; ++v) unique_count[v + 1] += unique_count[v];

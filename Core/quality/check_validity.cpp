@@ -338,36 +338,35 @@ void check_vertices(const std::vector<TetLinks>& links, const std::vector<std::i
   parallel_for_worker(
       static_cast<long>(num_points),
       [&](long v, int worker) {
-      DisjointSets& components = components_by[static_cast<std::size_t>(worker)];
-      std::vector<index_t>& seen = seen_by[static_cast<std::size_t>(worker)];
-      if (seen.empty()) seen.assign(num_points, kInvalidIndex);
-      const index_t* begin = ball.data() + ball_start[v];
-      const index_t* end = ball.data() + ball_start[v + 1];
-      const std::int64_t degree = end - begin;
-      if (degree == 0) return;
-      components.reset(degree);
-      std::int64_t link_vertices = 0, link_edges = 0;
-      for (std::int64_t i = 0; i < degree; ++i) {
-        const index_t t = begin[i];
-        const TetLinks& tet = links[t];
-        for (int f = 0; f < 4; ++f) {
-          const index_t w = tet.ids[f];
-          if (w == v) continue;
-          if (seen[w] != v) {
-            seen[w] = static_cast<index_t>(v);
-            ++link_vertices;
+        DisjointSets& components = components_by[static_cast<std::size_t>(worker)];
+        std::vector<index_t>& seen = seen_by[static_cast<std::size_t>(worker)];
+        if (seen.empty()) seen.assign(num_points, kInvalidIndex);
+        const index_t* begin = ball.data() + ball_start[v];
+        const index_t* end = ball.data() + ball_start[v + 1];
+        const std::int64_t degree = end - begin;
+        if (degree == 0) return;
+        components.reset(degree);
+        std::int64_t link_vertices = 0, link_edges = 0;
+        for (std::int64_t i = 0; i < degree; ++i) {
+          const index_t t = begin[i];
+          const TetLinks& tet = links[t];
+          for (int f = 0; f < 4; ++f) {
+            const index_t w = tet.ids[f];
+            if (w == v) continue;
+            if (seen[w] != v) {
+              seen[w] = static_cast<index_t>(v);
+              ++link_vertices;
+            }
+            // Face f contains v; across it (if manifold) lies tet t2.
+            const index_t across = tet.across[f];
+            const index_t t2 = across < 0 ? kInvalidIndex : across / 4;
+            if (t2 < t) ++link_edges;  // each face once
+            if (t2 > t) components.unite(i, std::lower_bound(begin, end, t2) - begin);
           }
-          // Face f contains v; across it (if manifold) lies tet t2.
-          const index_t across = tet.across[f];
-          const index_t t2 = across < 0 ? kInvalidIndex : across / 4;
-          if (t2 < t) ++link_edges;  // each face once
-          if (t2 > t) components.unite(i, std::lower_bound(begin, end, t2) - begin);
         }
-      }
-      bool bad = components.roots() > 1 || fans[v] > 1;
-      if (!bad && !flags.skip_link[v])
-        bad = link_vertices - link_edges + degree != (fans[v] == 0 ? 2 : 1);
-      if (bad) nonmanifold[v] = 1;
+        bool bad = components.roots() > 1 || fans[v] > 1;
+        if (!bad && !flags.skip_link[v]) bad = link_vertices - link_edges + degree != (fans[v] == 0 ? 2 : 1);
+        if (bad) nonmanifold[v] = 1;
       },
       kParallelMinItems, 1024);
   report.nonmanifold_vertices = static_cast<std::size_t>(std::count(nonmanifold.begin(), nonmanifold.end(), 1));

@@ -18,20 +18,20 @@ SharpEdges detect_sharp_edges(const SurfaceMesh& surface, double angle) {
       static_cast<long>(nf),
       [&](long begin, long end, int) {
         for (index_t f = static_cast<index_t>(begin); f < static_cast<index_t>(end); ++f) {
-    const Vec3& n = surface.normals[f];
-    const bool degenerate = n.squaredNorm() == 0;
-    for (int k = 0; k < 3; ++k) {
-      const index_t g = surface.neighbors[f][k];
-      char sharp;
-      if (g < 0) {
-        sharp = 1;  // open edge
-      } else {
-        const Vec3& m = surface.normals[g];
-        sharp = !degenerate && m.squaredNorm() != 0 && n.dot(m) < cos_angle;
-      }
-      out.edge[3 * static_cast<std::size_t>(f) + k] = sharp;
-    }
-  }
+          const Vec3& n = surface.normals[f];
+          const bool degenerate = n.squaredNorm() == 0;
+          for (int k = 0; k < 3; ++k) {
+            const index_t g = surface.neighbors[f][k];
+            char sharp;
+            if (g < 0) {
+              sharp = 1;  // open edge
+            } else {
+              const Vec3& m = surface.normals[g];
+              sharp = !degenerate && m.squaredNorm() != 0 && n.dot(m) < cos_angle;
+            }
+            out.edge[3 * static_cast<std::size_t>(f) + k] = sharp;
+          }
+        }
       },
       kParallelMinItems);
 

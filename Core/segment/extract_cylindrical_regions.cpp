@@ -34,16 +34,16 @@ std::vector<std::vector<index_t>> direction_seed_regions(const State& st, double
       static_cast<long>(s.num_triangles()),
       [&](long begin, long end, int) {
         for (index_t f = static_cast<index_t>(begin); f < static_cast<index_t>(end); ++f) {
-    if (st.triangle_region[f] >= 0 || !curved(st, f)) continue;
-    Vec3 dirs[4];
-    int n = 0;
-    dirs[n++] = c.triangle_dir_min[f];
-    for (int k = 0; k < 3; ++k) {
-      const index_t g = s.neighbors[f][k];
-      if (g >= 0 && c.triangle_valid[g]) dirs[n++] = c.triangle_dir_min[g];
-    }
-    seed[f] = n >= 3 && vector_variance(dirs, n, true) <= max_variance;
-  }
+          if (st.triangle_region[f] >= 0 || !curved(st, f)) continue;
+          Vec3 dirs[4];
+          int n = 0;
+          dirs[n++] = c.triangle_dir_min[f];
+          for (int k = 0; k < 3; ++k) {
+            const index_t g = s.neighbors[f][k];
+            if (g >= 0 && c.triangle_valid[g]) dirs[n++] = c.triangle_dir_min[g];
+          }
+          seed[f] = n >= 3 && vector_variance(dirs, n, true) <= max_variance;
+        }
       },
       kParallelMinItems);
   // Grow seed regions over neighbours with agreeing directions and the same

@@ -52,15 +52,16 @@ void extract_planar_regions(State& st) {
   const double max_variance = 2.0 * (1.0 - std::cos(degrees_to_radians(st.params.plane_angle_tolerance_deg)));
   std::vector<char> planar_vertex(static_cast<std::size_t>(s.num_points()), 0);
   parallel_for_chunks(s.num_points(), [&](long begin, long end, int) {
-  std::vector<Vec3> ring;
-  for (index_t v = static_cast<index_t>(begin); v < static_cast<index_t>(end); ++v) {
-    ring.clear();
-    for (index_t i = s.vertex_offsets[v]; i < s.vertex_offsets[v + 1]; ++i) {
-      const Vec3& n = s.normals[s.vertex_triangles[i]];
-      if (n.squaredNorm() > 0) ring.push_back(n);
+    std::vector<Vec3> ring;
+    for (index_t v = static_cast<index_t>(begin); v < static_cast<index_t>(end); ++v) {
+      ring.clear();
+      for (index_t i = s.vertex_offsets[v]; i < s.vertex_offsets[v + 1]; ++i) {
+        const Vec3& n = s.normals[s.vertex_triangles[i]];
+        if (n.squaredNorm() > 0) ring.push_back(n);
+      }
+      planar_vertex[v] =
+          !ring.empty() && vector_variance(ring.data(), static_cast<int>(ring.size()), false) <= max_variance;
     }
-    planar_vertex[v] = !ring.empty() && vector_variance(ring.data(), static_cast<int>(ring.size()), false) <= max_variance;
-  }
   });
   // Seed triangles have two or more planar vertices; seed regions are their
   // connected components.

@@ -13,7 +13,6 @@
 #include "quality/tet_quality.h"
 #include "test_meshes.h"
 
-
 #include <algorithm>
 #include <array>
 #include <chrono>

@@ -119,7 +119,7 @@ The latest figures of FEMorph's benchmark programs (Testing/Benchmarks/bench_*.c
 printed them. This file is written by the benchmark command; do not edit the sections by hand:
 
 ```sh
-bash Testing/Benchmarks/run_benchmarks.sh --build build                 # all six
+bash Testing/Benchmarks/run_benchmarks.sh --build build                 # all seven
 bash Testing/Benchmarks/run_benchmarks.sh --build build bench_tet_mesh  # one, the others kept
 ```
 

@@ -17,7 +17,6 @@
 
 #include <gtest/gtest.h>
 
-
 #include <atomic>
 #include <cmath>
 #include <algorithm>

@@ -29,7 +29,8 @@ TEST(Parallel, EveryIndexExactlyOnce) {
     for (const long n : {0L, 1L, 7L, 9999L, 100000L}) {
       for (const long chunk : {0L, 1L, 13L, 4096L}) {
         std::vector<std::atomic<int>> hits(static_cast<std::size_t>(n));
-        parallel_for(n, [&](long i) { hits[static_cast<std::size_t>(i)].fetch_add(1); }, 0, chunk);
+        parallel_for(
+            n, [&](long i) { hits[static_cast<std::size_t>(i)].fetch_add(1); }, 0, chunk);
         for (long i = 0; i < n; ++i) ASSERT_EQ(hits[static_cast<std::size_t>(i)].load(), 1) << threads << " " << n;
       }
     }
@@ -125,7 +126,8 @@ TEST(Parallel, ExceptionIsRethrownOnTheCaller) {
   }
   // The pool still works.
   std::atomic<long> count{0};
-  parallel_for(100000, [&](long) { ++count; }, 0);
+  parallel_for(
+      100000, [&](long) { ++count; }, 0);
   EXPECT_EQ(count.load(), 100000);
   EXPECT_FALSE(in_parallel());
 }
@@ -174,7 +176,8 @@ TEST(Parallel, LoopsFromSeveralThreadsAtOnce) {
 TEST(Parallel, IdleThreadsUseNoCpu) {
   Threads t(4);
   std::atomic<long> count{0};
-  parallel_for(1000000, [&](long) { ++count; }, 0);  // starts the pool
+  parallel_for(
+      1000000, [&](long) { ++count; }, 0);  // starts the pool
   const std::clock_t before = std::clock();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   const double cpu = static_cast<double>(std::clock() - before) / CLOCKS_PER_SEC;
