@@ -29,8 +29,8 @@ namespace femorph {
 /// run on.
 int parallel_threads();
 
-/// Sets the thread count of later loops; n <= 0 restores the default. Not to
-/// be called while a loop runs.
+/// Sets the thread count of later loops; n <= 0 restores the default. Waits
+/// for a loop another thread runs; not to be called from a loop's body.
 void set_parallel_threads(int n);
 
 /// True on a thread running a chunk of a parallel loop (not in a loop run
