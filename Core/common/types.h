@@ -17,9 +17,9 @@ using index_t = std::int32_t;
 constexpr index_t kInvalidIndex = -1;
 constexpr double kPi = 3.14159265358979323846;
 inline double degrees_to_radians(double deg) { return deg * kPi / 180.0; }
-/// Loops over fewer items run on one thread: waking OpenMP's threads costs
-/// more than the work, and far more on a busy machine where a worker is not
-/// scheduled at once.
+/// Loops over fewer items run on one thread: waking the pool's threads
+/// (common/parallel.h) costs more than the work, and more still on a busy
+/// machine where a thread is not scheduled at once.
 constexpr long kParallelMinItems = 10000;
 /// The same for loops whose items cost microseconds each (curvature fits).
 constexpr long kParallelMinHeavyItems = 500;

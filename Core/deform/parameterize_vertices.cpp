@@ -7,6 +7,7 @@
 // system of Eq. 2.10, built here once (curves and surfaces factorised).
 #include "deform/deform.h"
 
+#include "common/parallel.h"
 #include "mesh/surface_mesh.h"
 #include "mesh/tet_mesh.h"
 
@@ -269,17 +270,18 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
     }
     const auto n = static_cast<long>(inner_rows.unknowns.size());
     inner_rows.weights.resize(inner_rows.unknowns.size());
-#pragma omp parallel if (n >= kParallelMinItems / 4)
-    {
-      std::vector<index_t> ids;
-      std::vector<double> w;
-#pragma omp for schedule(dynamic, 256)
-      for (long i = 0; i < n; ++i) {
-        vertex_ring_mvc(mesh, inner_rows.unknowns[i], ids, w);
-        auto& row = inner_rows.weights[i];
-        for (std::size_t j = 0; j < ids.size(); ++j) row.emplace_back(ids[j], w[j]);
-      }
-    }
+    parallel_for_chunks(
+        n,
+        [&](long begin, long end, int) {
+          std::vector<index_t> ids;
+          std::vector<double> w;
+          for (long i = begin; i < end; ++i) {
+            vertex_ring_mvc(mesh, inner_rows.unknowns[i], ids, w);
+            auto& row = inner_rows.weights[i];
+            for (std::size_t j = 0; j < ids.size(); ++j) row.emplace_back(ids[j], w[j]);
+          }
+        },
+        kParallelMinItems / 4, 256);
   }
 
   for (index_t t = 0; t < mesh.tet_slots(); ++t) {

@@ -2,6 +2,7 @@
 // best candidate (Eq. 4.1) and adopt it when none of its tets is taken. The
 // max-heap is a sorted array: every candidate is popped anyway.
 #include "hex/tet_to_hex_internal.h"
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -36,10 +37,14 @@ void radix_sort(std::vector<Key>& keys) {
   const bool parallel = n >= static_cast<std::size_t>(kParallelMinItems);
   for (int shift = 0; shift < 64; shift += kBits) {
     std::fill(counts.begin(), counts.end(), 0);
-#pragma omp parallel for schedule(static, 1) if(parallel)
-    for (int b = 0; b < kBlocks; ++b)
-      for (std::size_t i = bounds[b]; i < bounds[b + 1]; ++i)
-        ++counts[b * kBuckets + ((keys[i].key >> shift) & (kBuckets - 1))];
+    parallel_for_chunks(
+        static_cast<long>(kBlocks),
+        [&](long begin, long end, int) {
+          for (int b = static_cast<int>(begin); b < static_cast<int>(end); ++b)
+            for (std::size_t i = bounds[b]; i < bounds[b + 1]; ++i)
+              ++counts[b * kBuckets + ((keys[i].key >> shift) & (kBuckets - 1))];
+        },
+        parallel_when(parallel), 1);
     // Offsets: bucket-major, then block order (stability).
     std::size_t sum = 0;
     for (int d = 0; d < kBuckets; ++d)
@@ -48,10 +53,14 @@ void radix_sort(std::vector<Key>& keys) {
         counts[b * kBuckets + d] = sum;
         sum += c;
       }
-#pragma omp parallel for schedule(static, 1) if(parallel)
-    for (int b = 0; b < kBlocks; ++b)
-      for (std::size_t i = bounds[b]; i < bounds[b + 1]; ++i)
-        other[counts[b * kBuckets + ((keys[i].key >> shift) & (kBuckets - 1))]++] = keys[i];
+    parallel_for_chunks(
+        static_cast<long>(kBlocks),
+        [&](long begin, long end, int) {
+          for (int b = static_cast<int>(begin); b < static_cast<int>(end); ++b)
+            for (std::size_t i = bounds[b]; i < bounds[b + 1]; ++i)
+              other[counts[b * kBuckets + ((keys[i].key >> shift) & (kBuckets - 1))]++] = keys[i];
+        },
+        parallel_when(parallel), 1);
     keys.swap(other);
   }
 }
@@ -68,8 +77,13 @@ void sort_candidates(std::vector<Candidate>& candidates) {
   radix_sort(keys);
   std::vector<Candidate> sorted(n);
   const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static) if(count >= kParallelMinItems)
-  for (std::ptrdiff_t i = 0; i < count; ++i) sorted[i] = candidates[keys[i].index];
+  parallel_for_chunks(
+      static_cast<long>(count),
+      [&](long begin, long end, int) {
+        for (std::ptrdiff_t i = static_cast<std::ptrdiff_t>(begin); i < static_cast<std::ptrdiff_t>(end); ++i)
+          sorted[i] = candidates[keys[i].index];
+      },
+      kParallelMinItems);
   candidates.swap(sorted);
 }
 
@@ -90,9 +104,13 @@ void adopt_candidates_greedy(const std::vector<Candidate>& candidates,
   // The adopted cells' nodes, replaying their walks.
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(adopted.size());
   cells.assign(adopted.size(), Cell());
-#pragma omp parallel for schedule(static) if(n >= kParallelMinItems)
-  for (std::ptrdiff_t i = 0; i < n; ++i)
-    cells[i] = candidate_cell(candidates[adopted[i]], adopted[i], points, tets, adjacency);
+  parallel_for_chunks(
+      static_cast<long>(n),
+      [&](long begin, long end, int) {
+        for (std::ptrdiff_t i = static_cast<std::ptrdiff_t>(begin); i < static_cast<std::ptrdiff_t>(end); ++i)
+          cells[i] = candidate_cell(candidates[adopted[i]], adopted[i], points, tets, adjacency);
+      },
+      kParallelMinItems);
 }
 
 }  // namespace tet_to_hex

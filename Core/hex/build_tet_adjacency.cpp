@@ -2,6 +2,7 @@
 // (thesis 4.5.2). Faces are matched through the tets around one of their
 // vertices (the one in fewest tets), one parallel pass over the tets.
 #include "hex/tet_to_hex_internal.h"
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -94,17 +95,22 @@ Status build_tet_adjacency(index_t num_points, const std::vector<Tet>& tets,
   }
 
   adjacency.assign(static_cast<std::size_t>(nt) * 4, -1);
-  std::int64_t first_bad = std::numeric_limits<std::int64_t>::max();
-#pragma omp parallel for schedule(static) reduction(min : first_bad) if(nt >= kParallelMinItems)
-  for (index_t t = 0; t < nt; ++t)
-    for (int f = 0; f < 4; ++f) {
-      const FaceMatch m = match_face(tets, offsets, incident, t, f);
-      if (m.problem != FaceProblem::None) {
-        first_bad = std::min<std::int64_t>(first_bad, 4 * static_cast<std::int64_t>(t) + f);
-        continue;
-      }
-      adjacency[4 * t + f] = m.code;
-    }
+  const std::int64_t first_bad = parallel_reduce(
+      static_cast<long>(nt), std::numeric_limits<std::int64_t>::max(),
+      [&](long begin, long end, int) {
+        std::int64_t first = std::numeric_limits<std::int64_t>::max();
+        for (index_t t = static_cast<index_t>(begin); t < static_cast<index_t>(end); ++t)
+          for (int f = 0; f < 4; ++f) {
+            const FaceMatch m = match_face(tets, offsets, incident, t, f);
+            if (m.problem != FaceProblem::None) {
+              first = std::min<std::int64_t>(first, 4 * static_cast<std::int64_t>(t) + f);
+              continue;
+            }
+            adjacency[4 * t + f] = m.code;
+          }
+        return first;
+      },
+      [](std::int64_t a, std::int64_t b) { return std::min(a, b); });
   if (first_bad == std::numeric_limits<std::int64_t>::max()) return Status::success();
 
   // The first problem, again, for the message.

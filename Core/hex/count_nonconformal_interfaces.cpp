@@ -4,6 +4,7 @@
 // by the same quad (same four vertices) of the cell on its other side, i.e.
 // it meets two triangles of other cells.
 #include "hex/tet_to_hex_internal.h"
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -71,19 +72,23 @@ std::size_t count_nonconformal_interfaces(const std::vector<Cell>& cells,
                                           std::vector<std::uint8_t>* flags) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(cells.size());
   if (flags) flags->assign(cells.size(), 0);
-  std::size_t count = 0;
-#pragma omp parallel for schedule(static) reduction(+ : count) if(n >= kParallelMinItems)
-  for (std::ptrdiff_t c = 0; c < n; ++c) {
-    if (!cells[c].alive) continue;
-    const std::array<std::int8_t, 4>* quads = nullptr;
-    const int nq = cell_quads(cells[c].kind, quads);
-    for (int q = 0; q < nq; ++q)
-      if (!quad_is_conformal(cells[c], q, cells, cell_of_tet, tets, adjacency)) {
-        ++count;
-        if (flags) (*flags)[c] = 1;
-      }
-  }
-  return count;
+  return parallel_reduce(
+      static_cast<long>(n), std::size_t(0),
+      [&](long begin, long end, int) {
+        std::size_t count = 0;
+        for (std::ptrdiff_t c = begin; c < end; ++c) {
+          if (!cells[c].alive) continue;
+          const std::array<std::int8_t, 4>* quads = nullptr;
+          const int nq = cell_quads(cells[c].kind, quads);
+          for (int q = 0; q < nq; ++q)
+            if (!quad_is_conformal(cells[c], q, cells, cell_of_tet, tets, adjacency)) {
+              ++count;
+              if (flags) (*flags)[c] = 1;
+            }
+        }
+        return count;
+      },
+      [](std::size_t a, std::size_t b) { return a + b; });
 }
 
 }  // namespace tet_to_hex

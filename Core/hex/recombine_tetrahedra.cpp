@@ -3,11 +3,13 @@
 // minimum scaled Jacobian filter, the optional removal of non-conformal
 // cells, and the output cells in VTK's node orders.
 #include "hex/tet_to_hex.h"
+#include "common/parallel.h"
 
 #include "geometry/predicates.h"
 #include "hex/tet_to_hex_internal.h"
 #include "quality/tet_quality.h"
 
+#include <utility>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -58,15 +60,22 @@ Status recombine_tetrahedra(const std::vector<Vec3>& points, const std::vector<T
   Status status = build_tet_adjacency(static_cast<index_t>(points.size()), tets, adjacency);
   if (!status) return status;
   const std::ptrdiff_t nt = static_cast<std::ptrdiff_t>(tets.size());
-  std::int64_t not_positive = 0, first = std::numeric_limits<std::int64_t>::max();
-#pragma omp parallel for schedule(static) reduction(+ : not_positive) reduction(min : first) if(nt >= kParallelMinItems)
-  for (std::ptrdiff_t t = 0; t < nt; ++t) {
-    const Tet& v = tets[t];
-    if (orient3d_sign(points[v[0]], points[v[1]], points[v[2]], points[v[3]]) <= 0) {
-      ++not_positive;
-      first = std::min<std::int64_t>(first, t);
-    }
-  }
+  using Bad = std::pair<std::int64_t, std::int64_t>;  // count, first
+  const Bad bad = parallel_reduce(
+      static_cast<long>(nt), Bad(0, std::numeric_limits<std::int64_t>::max()),
+      [&](long begin, long end, int) {
+        Bad k(0, std::numeric_limits<std::int64_t>::max());
+        for (long t = begin; t < end; ++t) {
+          const Tet& v = tets[static_cast<std::size_t>(t)];
+          if (orient3d_sign(points[v[0]], points[v[1]], points[v[2]], points[v[3]]) <= 0) {
+            ++k.first;
+            k.second = std::min<std::int64_t>(k.second, t);
+          }
+        }
+        return k;
+      },
+      [](Bad a, Bad b) { return Bad(a.first + b.first, std::min(a.second, b.second)); });
+  const std::int64_t not_positive = bad.first, first = bad.second;
   if (not_positive > 0)
     return Status::failure(std::to_string(not_positive) +
                            (not_positive == 1 ? " tetrahedron is" : " tetrahedra are") +
@@ -152,13 +161,17 @@ Status recombine_tetrahedra(const std::vector<Vec3>& points, const std::vector<T
   }
   const std::ptrdiff_t nc = out.size();
   result.min_scaled_jacobian.resize(static_cast<std::size_t>(nc));
-#pragma omp parallel for schedule(static) if(nc >= kParallelMinItems)
-  for (std::ptrdiff_t c = 0; c < nc; ++c) {
-    Vec3 corners[kMaxNodes];
-    const index_t* nodes = out.nodes(static_cast<index_t>(c));
-    for (index_t k = 0; k < out.node_count(static_cast<index_t>(c)); ++k) corners[k] = points[nodes[k]];
-    result.min_scaled_jacobian[c] = min_scaled_jacobian(out.kinds[c], corners);
-  }
+  parallel_for_chunks(
+      static_cast<long>(nc),
+      [&](long begin, long end, int) {
+        for (std::ptrdiff_t c = static_cast<std::ptrdiff_t>(begin); c < static_cast<std::ptrdiff_t>(end); ++c) {
+          Vec3 corners[kMaxNodes];
+          const index_t* nodes = out.nodes(static_cast<index_t>(c));
+          for (index_t k = 0; k < out.node_count(static_cast<index_t>(c)); ++k) corners[k] = points[nodes[k]];
+          result.min_scaled_jacobian[c] = min_scaled_jacobian(out.kinds[c], corners);
+        }
+      },
+      kParallelMinItems);
   for (CellKind kind : out.kinds) ++stats.cells[static_cast<int>(kind)];
   stats.seconds_adopt = seconds_since(adopt_start);
   stats.seconds_total = seconds_since(start);

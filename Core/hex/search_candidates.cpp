@@ -3,8 +3,7 @@
 // operations; every complete walk is a candidate hexahedron (5 or 6 tets),
 // prism (3) or pyramid (2).
 #include "hex/tet_to_hex_internal.h"
-
-#include <omp.h>
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <atomic>
@@ -181,74 +180,74 @@ bool search_candidates(const std::vector<Vec3>& points, const std::vector<Tet>& 
 
   std::atomic<std::size_t> chunks_done{ 0 };
   std::atomic<bool> aborted{ false };
-#pragma omp parallel if(nt >= static_cast<std::size_t>(kParallelMinItems))
-  {
-    std::vector<Candidate> local;  // one root's candidates
-    Walk w;
-    Vec3 corners[kMaxNodes];
-#pragma omp for schedule(dynamic, 1)
-    for (std::ptrdiff_t chunk = 0; chunk < static_cast<std::ptrdiff_t>(num_chunks); ++chunk) {
-      if (aborted.load(std::memory_order_relaxed)) continue;
-      const std::size_t done = chunks_done.fetch_add(1, std::memory_order_relaxed);
-      if (progress && omp_get_thread_num() == 0 && !progress(static_cast<double>(done) / num_chunks))
-        aborted = true;
-      std::vector<Candidate>& out = buffers[chunk];
-      std::array<std::size_t, 8>& count = counts[chunk];
-      const std::size_t end = std::min(nt, (chunk + 1) * kRootsPerChunk);
-      for (std::size_t root = chunk * kRootsPerChunk; root < end; ++root) {
-        local.clear();
-        const Tet& r = t[root];
-        unsigned first_quads_ok = 0;
-        for (int face = 0; face < 4; ++face) {
-          const index_t code = adj[4 * root + face];
-          if (code < 0 || (code >> 2) <= static_cast<index_t>(root)) continue;
-          const Vec3& apex = p[t[code >> 2][code & 3]];
-          for (int j = 0; j < 4; ++j)
-            if (j != face &&
-                quad_passes(p[r[face]], p[r[kEdgeEnds[face][j][0]]], apex, p[r[kEdgeEnds[face][j][1]]], 1, min_cos))
-              first_quads_ok |= 1u << (4 * face + j);
-        }
-        for (int face = 0; face < 4; ++face) {
-          const index_t code = adj[4 * root + face];
-          if (code < 0 || (code >> 2) <= static_cast<index_t>(root)) continue;
-          for (const Start& start : starts[face]) {
-            const SearchTree& tree = trees[start.tree];
-            if ((start.first_quads & ~first_quads_ok) != 0) continue;
-            if (!walk<true>(tree, tree.assignments[start.assignment], static_cast<index_t>(root), p,
-                            t, adj, min_cos, w))
-              continue;
-            ++count[kind_index(tree.kind)];
-            for (int l = 0; l < tree.num_nodes; ++l) corners[l] = p[w.node[l]];
-            if (!(min_scaled_jacobian(tree.kind, corners) >= min_sj)) continue;
-            Candidate c;
-            c.priority = candidate_priority(tree, w, p);
-            c.num_tets = static_cast<std::uint8_t>(tree.num_tets);
-            std::copy(w.tet.begin(), w.tet.begin() + tree.num_tets, c.tets.begin());
-            std::sort(c.tets.begin(), c.tets.begin() + tree.num_tets);
-            c.tree = static_cast<std::uint16_t>(start.tree);
-            c.assignment = static_cast<std::uint8_t>(start.assignment);
-            // Several cells on the same tets (e.g. a pair of tets read as
-            // pyramids with different apexes): the best one stays.
-            auto same = std::find_if(local.begin(), local.end(), [&c](const Candidate& o) {
-              return o.num_tets == c.num_tets && o.tets == c.tets;
-            });
-            if (same == local.end())
-              local.push_back(c);
-            else if (c.priority > same->priority)
-              *same = c;
+  // Progress is reported from the calling thread (worker 0) only.
+  parallel_for_chunks(
+      static_cast<long>(nt),
+      [&](long first_root, long end_root, int worker) {
+        if (aborted.load(std::memory_order_relaxed)) return;
+        std::vector<Candidate> local;  // one root's candidates
+        Walk w;
+        Vec3 corners[kMaxNodes];
+        const std::size_t chunk = static_cast<std::size_t>(first_root) / kRootsPerChunk;
+        const std::size_t done = chunks_done.fetch_add(1, std::memory_order_relaxed);
+        if (progress && worker == 0 && !progress(static_cast<double>(done) / num_chunks)) aborted = true;
+        std::vector<Candidate>& out = buffers[chunk];
+        std::array<std::size_t, 8>& count = counts[chunk];
+        const std::size_t end = static_cast<std::size_t>(end_root);
+        for (std::size_t root = static_cast<std::size_t>(first_root); root < end; ++root) {
+          local.clear();
+          const Tet& r = t[root];
+          unsigned first_quads_ok = 0;
+          for (int face = 0; face < 4; ++face) {
+            const index_t code = adj[4 * root + face];
+            if (code < 0 || (code >> 2) <= static_cast<index_t>(root)) continue;
+            const Vec3& apex = p[t[code >> 2][code & 3]];
+            for (int j = 0; j < 4; ++j)
+              if (j != face &&
+                  quad_passes(p[r[face]], p[r[kEdgeEnds[face][j][0]]], apex, p[r[kEdgeEnds[face][j][1]]], 1, min_cos))
+                first_quads_ok |= 1u << (4 * face + j);
           }
+          for (int face = 0; face < 4; ++face) {
+            const index_t code = adj[4 * root + face];
+            if (code < 0 || (code >> 2) <= static_cast<index_t>(root)) continue;
+            for (const Start& start : starts[face]) {
+              const SearchTree& tree = trees[start.tree];
+              if ((start.first_quads & ~first_quads_ok) != 0) continue;
+              if (!walk<true>(tree, tree.assignments[start.assignment], static_cast<index_t>(root), p, t, adj, min_cos,
+                              w))
+                continue;
+              ++count[kind_index(tree.kind)];
+              for (int l = 0; l < tree.num_nodes; ++l) corners[l] = p[w.node[l]];
+              if (!(min_scaled_jacobian(tree.kind, corners) >= min_sj)) continue;
+              Candidate c;
+              c.priority = candidate_priority(tree, w, p);
+              c.num_tets = static_cast<std::uint8_t>(tree.num_tets);
+              std::copy(w.tet.begin(), w.tet.begin() + tree.num_tets, c.tets.begin());
+              std::sort(c.tets.begin(), c.tets.begin() + tree.num_tets);
+              c.tree = static_cast<std::uint16_t>(start.tree);
+              c.assignment = static_cast<std::uint8_t>(start.assignment);
+              // Several cells on the same tets (e.g. a pair of tets read as
+              // pyramids with different apexes): the best one stays.
+              auto same = std::find_if(local.begin(), local.end(), [&c](const Candidate& o) {
+                return o.num_tets == c.num_tets && o.tets == c.tets;
+              });
+              if (same == local.end())
+                local.push_back(c);
+              else if (c.priority > same->priority)
+                *same = c;
+            }
+          }
+          // By sorted tets: with the roots in order, the whole list is (the
+          // order sort_candidates keeps among equal priorities).
+          std::sort(local.begin(), local.end(), [](const Candidate& a, const Candidate& b) {
+            return std::lexicographical_compare(a.tets.begin(), a.tets.begin() + a.num_tets, b.tets.begin(),
+                                                b.tets.begin() + b.num_tets);
+          });
+          for (const Candidate& c : local) ++count[4 + kind_index(trees[c.tree].kind)];
+          out.insert(out.end(), local.begin(), local.end());
         }
-        // By sorted tets: with the roots in order, the whole list is (the
-        // order sort_candidates keeps among equal priorities).
-        std::sort(local.begin(), local.end(), [](const Candidate& a, const Candidate& b) {
-          return std::lexicographical_compare(a.tets.begin(), a.tets.begin() + a.num_tets,
-                                              b.tets.begin(), b.tets.begin() + b.num_tets);
-        });
-        for (const Candidate& c : local) ++count[4 + kind_index(trees[c.tree].kind)];
-        out.insert(out.end(), local.begin(), local.end());
-      }
-    }
-  }
+      },
+      kParallelMinItems, static_cast<long>(kRootsPerChunk));
 
   if (aborted) return false;
   std::size_t total = 0;

@@ -102,7 +102,7 @@ struct Candidate {
 /// angles over 2, plus gamma_type (10 hexahedron, 4 wedge, 0 pyramid).
 double candidate_priority(const SearchTree& tree, const Walk& walk, const Vec3* points);
 
-/// A1 over every root tet (OpenMP): the candidates of the enabled kinds
+/// A1 over every root tet (in parallel): the candidates of the enabled kinds
 /// whose minimum scaled Jacobian reaches params.min_scaled_jacobian, one
 /// per set of tets (the best priority when several cells share the tets),
 /// ordered by their sorted tets (lexicographically). stats.candidates counts the cells the search found,

@@ -1,5 +1,7 @@
 #include "improve/coloured_balls.h"
 
+#include "common/parallel.h"
+
 #include "mesh/tet_mesh.h"
 
 #include <algorithm>
@@ -22,35 +24,35 @@ ColouredBalls coloured_balls(const TetMesh& mesh, const std::vector<std::uint8_t
   // order. Counted and filled in parallel, then each ball sorted: the same
   // lists as a serial scan.
   const long slots_t = mesh.tet_slots();
-  const bool parallel = slots_t >= kParallelMinItems;
+  // The loops over the balls run in parallel when the tet loops do.
+  const long min_items = parallel_when(slots_t >= kParallelMinItems);
   std::vector<index_t> start(ids.size() + 1, 0);
-#pragma omp parallel for schedule(static) if (parallel)
-  for (long t = 0; t < slots_t; ++t)
+  parallel_for(slots_t, [&](long t) {
     if (mesh.tet_alive(static_cast<index_t>(t)))
       for (const index_t w : mesh.tet(static_cast<index_t>(t)))
-        if (index[w] >= 0) {
-#pragma omp atomic
-          ++start[static_cast<std::size_t>(index[w]) + 1];
-        }
+        if (index[w] >= 0) fetch_add(start[static_cast<std::size_t>(index[w]) + 1], index_t(1));
+  });
   for (std::size_t i = 0; i < ids.size(); ++i) start[i + 1] += start[i];
   std::vector<index_t> tets(static_cast<std::size_t>(start.back()));
   {
     std::vector<index_t> fill(start.begin(), start.end() - 1);
-#pragma omp parallel for schedule(static) if (parallel)
-    for (long t = 0; t < slots_t; ++t)
+    parallel_for(slots_t, [&](long t) {
       if (mesh.tet_alive(static_cast<index_t>(t)))
         for (const index_t w : mesh.tet(static_cast<index_t>(t)))
           if (index[w] >= 0) {
-            index_t slot;
-#pragma omp atomic capture
-            slot = fill[static_cast<std::size_t>(index[w])]++;
+            const index_t slot = fetch_add(fill[static_cast<std::size_t>(index[w])], index_t(1));
             tets[static_cast<std::size_t>(slot)] = static_cast<index_t>(t);
           }
+    });
   }
   const long nids = static_cast<long>(ids.size());
-#pragma omp parallel for schedule(static) if (parallel)
-  for (long i = 0; i < nids; ++i)
-    std::sort(tets.begin() + start[static_cast<std::size_t>(i)], tets.begin() + start[static_cast<std::size_t>(i) + 1]);
+  parallel_for(
+      nids,
+      [&](long i) {
+        std::sort(tets.begin() + start[static_cast<std::size_t>(i)],
+                  tets.begin() + start[static_cast<std::size_t>(i) + 1]);
+      },
+      min_items);
 
   // Greedy colouring in id order: deterministic, and the same whatever the
   // number of threads. A vertex's colour depends only on its neighbours
@@ -59,17 +61,19 @@ ColouredBalls coloured_balls(const TetMesh& mesh, const std::vector<std::uint8_t
   // of walking balls.
   const std::unique_ptr<index_t[]> lower(new index_t[3 * tets.size() + 1]);
   std::vector<index_t> lower_count(ids.size(), 0);
-#pragma omp parallel for schedule(static) if (parallel)
-  for (long i = 0; i < nids; ++i) {
-    index_t* out = lower.get() + 3 * static_cast<std::size_t>(start[static_cast<std::size_t>(i)]);
-    index_t n = 0;
-    for (index_t k = start[static_cast<std::size_t>(i)]; k < start[static_cast<std::size_t>(i) + 1]; ++k)
-      for (const index_t w : mesh.tet(tets[static_cast<std::size_t>(k)])) {
-        const index_t j = index[w];
-        if (j >= 0 && j < i && std::find(out, out + n, j) == out + n) out[n++] = j;
-      }
-    lower_count[static_cast<std::size_t>(i)] = n;
-  }
+  parallel_for(
+      nids,
+      [&](long i) {
+        index_t* out = lower.get() + 3 * static_cast<std::size_t>(start[static_cast<std::size_t>(i)]);
+        index_t n = 0;
+        for (index_t k = start[static_cast<std::size_t>(i)]; k < start[static_cast<std::size_t>(i) + 1]; ++k)
+          for (const index_t w : mesh.tet(tets[static_cast<std::size_t>(k)])) {
+            const index_t j = index[w];
+            if (j >= 0 && j < i && std::find(out, out + n, j) == out + n) out[n++] = j;
+          }
+        lower_count[static_cast<std::size_t>(i)] = n;
+      },
+      min_items);
   std::vector<int> colour(ids.size(), -1);
   std::vector<char> used;
   int colours = 0;
@@ -99,12 +103,14 @@ ColouredBalls coloured_balls(const TetMesh& mesh, const std::vector<std::uint8_t
   }
   out.ball_tets.resize(tets.size());
   const long nout = static_cast<long>(order.size());
-#pragma omp parallel for schedule(static) if (parallel)
-  for (long j = 0; j < nout; ++j) {
-    const std::size_t i = order[static_cast<std::size_t>(j)];
-    std::copy(tets.begin() + start[i], tets.begin() + start[i + 1],
-              out.ball_tets.begin() + static_cast<std::ptrdiff_t>(out.ball_start[static_cast<std::size_t>(j)]));
-  }
+  parallel_for(
+      nout,
+      [&](long j) {
+        const std::size_t i = order[static_cast<std::size_t>(j)];
+        std::copy(tets.begin() + start[i], tets.begin() + start[i + 1],
+                  out.ball_tets.begin() + static_cast<std::ptrdiff_t>(out.ball_start[static_cast<std::size_t>(j)]));
+      },
+      min_items);
   return out;
 }
 

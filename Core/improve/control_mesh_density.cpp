@@ -1,6 +1,7 @@
 // Mesh density control, thesis 2.6.3 Fig. 2.40 (c); see control_mesh_density.h.
 #include "improve/control_mesh_density.h"
 
+#include "common/parallel.h"
 #include "improve/ball_quality.h"
 #include "improve/edge_queue.h"
 #include "improve/scan_live_tets.h"
@@ -12,8 +13,6 @@
 #include <cstdint>
 #include <limits>
 #include <utility>
-
-#include <omp.h>
 
 namespace femorph {
 
@@ -307,7 +306,7 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
   // result.
   constexpr std::size_t kBatch = 128;
   std::vector<SplitEval> batch(kBatch);
-  std::vector<TetMesh::WalkMarks> marks(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+  std::vector<TetMesh::WalkMarks> marks(static_cast<std::size_t>(parallel_threads()));
   std::vector<std::uint32_t> changed;  // batch id per vertex an accepted split changed
   std::uint32_t batch_id = 0;
   // Steps 2-3: split the longest until the heap is empty.
@@ -329,10 +328,13 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
       batch[n++].entry = top;
     }
     const long count = static_cast<long>(n);
-#pragma omp parallel for schedule(dynamic, 8) if (count >= 32)
-    for (long i = 0; i < count; ++i)
-      evaluate_split(mesh, grid, options, made, marks[static_cast<std::size_t>(omp_get_thread_num())],
-                     batch[static_cast<std::size_t>(i)]);
+    parallel_for_worker(
+        count,
+        [&](long i, int worker) {
+          evaluate_split(mesh, grid, options, made, marks[static_cast<std::size_t>(worker)],
+                         batch[static_cast<std::size_t>(i)]);
+        },
+        32, 8);
     ++batch_id;
     if (changed.size() < static_cast<std::size_t>(mesh.vertex_slots()))
       changed.resize(static_cast<std::size_t>(mesh.vertex_slots()), 0);
@@ -426,23 +428,20 @@ std::size_t split_pass(TetMesh& mesh, const DensityGrid& grid, const DensityCont
   if (shorts) {
     // The short edges among those the splits made.
     const long count = static_cast<long>(created.size());
-    std::vector<std::vector<HeapEdge>> found(marks.size());
-#pragma omp parallel if (count >= kParallelMinItems)
-    {
-      std::vector<HeapEdge>& out = found[static_cast<std::size_t>(omp_get_thread_num())];
-#pragma omp for schedule(static)
-      for (long i = 0; i < count; ++i) {
-        const auto [a, b] = created[static_cast<std::size_t>(i)];
-        if (!masked(mask, a) || !masked(mask, b)) continue;
-        double length;
-        const double scaled = scaled_length(mesh, grid, options.lookup, a, b, &length);
-        if (scaled > 0 && scaled <= beta2) out.push_back({length, a, b});
-      }
-    }
-    for (std::vector<HeapEdge>& f : found) {
-      shorts->insert(shorts->end(), f.begin(), f.end());
-      f.clear();
-    }
+    *shorts = parallel_reduce(
+        count, std::move(*shorts),
+        [&](long begin, long end, int) {
+          std::vector<HeapEdge> out;
+          for (long i = begin; i < end; ++i) {
+            const auto [a, b] = created[static_cast<std::size_t>(i)];
+            if (!masked(mask, a) || !masked(mask, b)) continue;
+            double length;
+            const double scaled = scaled_length(mesh, grid, options.lookup, a, b, &length);
+            if (scaled > 0 && scaled <= beta2) out.push_back({length, a, b});
+          }
+          return out;
+        },
+        append<HeapEdge>);
     sort_unique_by_ends(*shorts);
   }
   return splits;
@@ -622,7 +621,7 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
   // threads, so neither does the result.
   constexpr std::size_t kBatch = 128;
   std::vector<CollapseEval> batch(kBatch);
-  const int threads = std::max(1, omp_get_max_threads());
+  const int threads = parallel_threads();
   std::vector<TetMesh::WalkMarks> marks(static_cast<std::size_t>(threads));
   std::vector<TetMesh::VertexStamps> seen(static_cast<std::size_t>(threads));
   std::vector<TetMesh::VertexStamps> link_stamps(static_cast<std::size_t>(threads));
@@ -657,13 +656,14 @@ std::size_t collapse_pass(TetMesh& mesh, const DensityGrid& grid, const DensityC
       batch[n++].entry = top;
     }
     const long count = static_cast<long>(n);
-#pragma omp parallel for schedule(dynamic, 8) if (count >= 32)
-    for (long i = 0; i < count; ++i) {
-      const int id = omp_get_thread_num();
-      evaluate_collapse(mesh, grid, options, options.project_in_parallel, marks[static_cast<std::size_t>(id)],
-                        seen[static_cast<std::size_t>(id)], link_stamps[static_cast<std::size_t>(id)],
-                        batch[static_cast<std::size_t>(i)]);
-    }
+    parallel_for_worker(
+        count,
+        [&](long i, int id) {
+          evaluate_collapse(mesh, grid, options, options.project_in_parallel, marks[static_cast<std::size_t>(id)],
+                            seen[static_cast<std::size_t>(id)], link_stamps[static_cast<std::size_t>(id)],
+                            batch[static_cast<std::size_t>(i)]);
+        },
+        32, 8);
     // Step 6 in heap order.
     ++batch_id;
     const auto untouched = [&](index_t v) { return changed[static_cast<std::size_t>(v)] != batch_id; };

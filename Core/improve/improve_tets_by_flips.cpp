@@ -1,6 +1,7 @@
 // Flips 2-3, 3-2 and 4-4 under the three conditions of thesis 2.6.5.4.
 #include "improve/improve_tets_by_flips.h"
 
+#include "common/parallel.h"
 #include "geometry/predicates.h"
 #include "improve/locally_delaunay.h"
 #include "mesh/tet_mesh.h"
@@ -10,8 +11,6 @@
 #include <deque>
 #include <limits>
 #include <utility>
-
-#include <omp.h>
 
 namespace femorph {
 
@@ -191,8 +190,7 @@ class FlipEvaluator {
 FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions& options) {
   FlipImproveReport report;
   // One evaluator (scratch) per thread: candidates are evaluated read only.
-  std::vector<FlipEvaluator> evals(static_cast<std::size_t>(std::max(1, omp_get_max_threads())),
-                                   FlipEvaluator(mesh, options));
+  std::vector<FlipEvaluator> evals(static_cast<std::size_t>(parallel_threads()), FlipEvaluator(mesh, options));
   FlipEvaluator& eval = evals[0];
   const std::size_t max_visits = options.max_visits ? options.max_visits : 20 * mesh.live_tets() + 1;
   std::deque<index_t> queue;
@@ -211,10 +209,10 @@ FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions&
   {
     const long slots = mesh.tet_slots();
     std::vector<std::uint8_t> poor(static_cast<std::size_t>(slots), 0);
-#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
-    for (long t = 0; t < slots; ++t)
+    parallel_for(slots, [&](long t) {
       poor[static_cast<std::size_t>(t)] =
           mesh.tet_alive(static_cast<index_t>(t)) && !(eval.stretch(static_cast<index_t>(t)) >= options.quality_threshold);
+    });
     for (index_t s = 0; s < kStride; ++s)
       for (index_t t = s; t < slots; t += kStride)
         if (poor[static_cast<std::size_t>(t)]) {
@@ -250,10 +248,13 @@ FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions&
       break;
     }
     const long count = static_cast<long>(batch.size());
-#pragma omp parallel for schedule(dynamic, 4) if (count >= 16)
-    for (long i = 0; i < count; ++i)
-      evals[static_cast<std::size_t>(omp_get_thread_num())].candidates(batch[static_cast<std::size_t>(i)],
-                                                                        cands[static_cast<std::size_t>(i)]);
+    parallel_for_worker(
+        count,
+        [&](long i, int worker) {
+          evals[static_cast<std::size_t>(worker)].candidates(batch[static_cast<std::size_t>(i)],
+                                                             cands[static_cast<std::size_t>(i)]);
+        },
+        16, 4);
     ++batch_id;
     if (changed.size() < static_cast<std::size_t>(mesh.vertex_slots()))
       changed.resize(static_cast<std::size_t>(mesh.vertex_slots()), 0);

@@ -1,6 +1,7 @@
 // Thesis 2.6.3 Eq. 2.32, Eq. 2.33 and 2.7.4 Eq. 2.35; see mesh_density.h.
 #include "improve/mesh_density.h"
 
+#include "common/parallel.h"
 #include "mesh/tet_mesh.h"
 #include "mesh/unique_edges.h"
 
@@ -10,8 +11,6 @@
 #include <atomic>
 #include <cstdint>
 #include <limits>
-
-#include <omp.h>
 
 namespace femorph {
 
@@ -45,65 +44,62 @@ void fill_from_neighbours(const std::array<int, 3>& dims, std::vector<double>& v
   };
   std::vector<char> queued(known);
   std::vector<long> layer;
-  const int threads = std::max(1, omp_get_max_threads());
-  std::vector<std::vector<long>> found(static_cast<std::size_t>(threads));
   // Layer 0: the unknown entries next to a known one.
-#pragma omp parallel if (parallel)
-  {
-    std::vector<long>& out = found[static_cast<std::size_t>(omp_get_thread_num())];
-#pragma omp for schedule(static)
-    for (long q = 0; q < total; ++q) {
-      if (known[static_cast<std::size_t>(q)]) continue;
-      bool next_to_known = false;
-      for_each_neighbour(q, [&](long r) { next_to_known = next_to_known || known[static_cast<std::size_t>(r)]; });
-      if (next_to_known) out.push_back(q);
-    }
-  }
-  for (std::vector<long>& f : found) {
-    layer.insert(layer.end(), f.begin(), f.end());
-    f.clear();  // a region run by fewer threads leaves the others' lists alone
-  }
+  layer = parallel_reduce(
+      total, std::vector<long>(),
+      [&](long begin, long end, int) {
+        std::vector<long> out;
+        for (long q = begin; q < end; ++q) {
+          if (known[static_cast<std::size_t>(q)]) continue;
+          bool next_to_known = false;
+          for_each_neighbour(q, [&](long r) { next_to_known = next_to_known || known[static_cast<std::size_t>(r)]; });
+          if (next_to_known) out.push_back(q);
+        }
+        return out;
+      },
+      append<long>, parallel_when(parallel));
   for (const long q : layer) queued[static_cast<std::size_t>(q)] = 1;
   std::vector<double> layer_values;
   while (!layer.empty()) {
     const long layer_size = static_cast<long>(layer.size());
     const bool parallel_layer = layer_size >= kParallelMinItems;
     layer_values.assign(layer.size(), 0.0);
-#pragma omp parallel for schedule(static) if (parallel_layer)
-    for (long n = 0; n < layer_size; ++n) {
-      double sum = 0;
-      int count = 0;
-      for_each_neighbour(layer[static_cast<std::size_t>(n)], [&](long r) {
-        if (known[static_cast<std::size_t>(r)]) {
-          sum += values[static_cast<std::size_t>(r)];
-          ++count;
-        }
-      });
-      layer_values[static_cast<std::size_t>(n)] = count ? sum / count : 0.0;
-    }
-#pragma omp parallel for schedule(static) if (parallel_layer)
-    for (long n = 0; n < layer_size; ++n) {
-      const std::size_t q = static_cast<std::size_t>(layer[static_cast<std::size_t>(n)]);
-      values[q] = layer_values[static_cast<std::size_t>(n)];
-      known[q] = 1;
-    }
+    parallel_for(
+        layer_size,
+        [&](long n) {
+          double sum = 0;
+          int count = 0;
+          for_each_neighbour(layer[static_cast<std::size_t>(n)], [&](long r) {
+            if (known[static_cast<std::size_t>(r)]) {
+              sum += values[static_cast<std::size_t>(r)];
+              ++count;
+            }
+          });
+          layer_values[static_cast<std::size_t>(n)] = count ? sum / count : 0.0;
+        },
+        parallel_when(parallel_layer));
+    parallel_for(
+        layer_size,
+        [&](long n) {
+          const std::size_t q = static_cast<std::size_t>(layer[static_cast<std::size_t>(n)]);
+          values[q] = layer_values[static_cast<std::size_t>(n)];
+          known[q] = 1;
+        },
+        parallel_when(parallel_layer));
     // The next layer: the unqueued neighbours, each taken by one thread.
-#pragma omp parallel if (parallel_layer)
-    {
-      std::vector<long>& out = found[static_cast<std::size_t>(omp_get_thread_num())];
-#pragma omp for schedule(static)
-      for (long n = 0; n < layer_size; ++n)
-        for_each_neighbour(layer[static_cast<std::size_t>(n)], [&](long r) {
-          if (!__atomic_load_n(&queued[static_cast<std::size_t>(r)], __ATOMIC_RELAXED) &&
-              !__atomic_exchange_n(&queued[static_cast<std::size_t>(r)], char(1), __ATOMIC_RELAXED))
-            out.push_back(r);
-        });
-    }
-    layer.clear();
-    for (std::vector<long>& f : found) {
-      layer.insert(layer.end(), f.begin(), f.end());
-      f.clear();
-    }
+    layer = parallel_reduce(
+        layer_size, std::vector<long>(),
+        [&](long begin, long end, int) {
+          std::vector<long> out;
+          for (long n = begin; n < end; ++n)
+            for_each_neighbour(layer[static_cast<std::size_t>(n)], [&](long r) {
+              if (!__atomic_load_n(&queued[static_cast<std::size_t>(r)], __ATOMIC_RELAXED) &&
+                  !__atomic_exchange_n(&queued[static_cast<std::size_t>(r)], char(1), __ATOMIC_RELAXED))
+                out.push_back(r);
+            });
+          return out;
+        },
+        append<long>, parallel_when(parallel_layer));
   }
 }
 
@@ -118,22 +114,24 @@ DensityError density_error_of(const std::vector<Vec3>& points, const std::vector
   const long n = static_cast<long>(edges.size()), chunks = (n + kChunk - 1) / kChunk;
   std::vector<double> chunk_sum(static_cast<std::size_t>(chunks), 0.0), chunk_max(chunk_sum.size(), 0.0);
   std::vector<std::size_t> chunk_count(chunk_sum.size(), 0);
-#pragma omp parallel for schedule(static) if (n >= kParallelMinItems)
-  for (long c = 0; c < chunks; ++c) {
-    const std::size_t i = static_cast<std::size_t>(c);
-    for (long k = c * kChunk; k < std::min(n, (c + 1) * kChunk); ++k) {
-      const Edge& e = edges[static_cast<std::size_t>(k)];
-      const Vec3& a = points[e.first];
-      const Vec3& b = points[e.second];
-      const double length = (b - a).norm();
-      const double rho = grid.density_at(0.5 * (a + b), lookup);
-      if (!(length > 0) || !(rho > 0)) continue;
-      const double eps = std::abs(1.0 / length - rho) / rho;  // Eq. 2.35
-      chunk_sum[i] += eps;
-      chunk_max[i] = std::max(chunk_max[i], eps);
-      ++chunk_count[i];
-    }
-  }
+  parallel_for_chunks(
+      n,
+      [&](long begin, long end, int) {
+        const std::size_t i = static_cast<std::size_t>(begin / kChunk);
+        for (long k = begin; k < end; ++k) {
+          const Edge& e = edges[static_cast<std::size_t>(k)];
+          const Vec3& a = points[e.first];
+          const Vec3& b = points[e.second];
+          const double length = (b - a).norm();
+          const double rho = grid.density_at(0.5 * (a + b), lookup);
+          if (!(length > 0) || !(rho > 0)) continue;
+          const double eps = std::abs(1.0 / length - rho) / rho;  // Eq. 2.35
+          chunk_sum[i] += eps;
+          chunk_max[i] = std::max(chunk_max[i], eps);
+          ++chunk_count[i];
+        }
+      },
+      kParallelMinItems, kChunk);
   double sum = 0;
   for (std::size_t i = 0; i < chunk_sum.size(); ++i) {
     sum += chunk_sum[i];
@@ -241,62 +239,68 @@ bool DensityGrid::build(const std::vector<Vec3>& points, const std::vector<Tet>&
   const long ntets = static_cast<long>(tets.size());
   std::vector<std::atomic<index_t>> owner(total);
   const long ntotal = static_cast<long>(total);
-#pragma omp parallel for schedule(static) if (ntotal >= kParallelMinItems)
-  for (long g = 0; g < ntotal; ++g) owner[static_cast<std::size_t>(g)].store(kInvalidIndex, std::memory_order_relaxed);
-#pragma omp parallel for schedule(dynamic, 1024) if (ntets >= kParallelMinItems)
-  for (long ti = 0; ti < ntets; ++ti) {
-    const Tet& t = tets[static_cast<std::size_t>(ti)];
-    const Vec3 p[4] = {points[t[0]], points[t[1]], points[t[2]], points[t[3]]};
-    const double volume = signed_volume6(p[0], p[1], p[2], p[3]);
-    if (volume == 0 || !std::isfinite(volume)) continue;
-    Vec3 tlo = p[0], thi = p[0];
-    for (int q = 1; q < 4; ++q) {
-      tlo = tlo.cwiseMin(p[q]);
-      thi = thi.cwiseMax(p[q]);
-    }
-    int i0[3], i1[3];
-    for (int a = 0; a < 3; ++a) {
-      i0[a] = std::max(0, static_cast<int>(std::ceil((tlo[a] - origin_[a]) / h_ - kTol)));
-      i1[a] = std::min(n_[a], static_cast<int>(std::floor((thi[a] - origin_[a]) / h_ + kTol)));
-    }
-    // Barycentric coordinates as an affine function of the grid point: a
-    // cheap first test that skips most of the box (a tet fills a sixth of
-    // it or less). Its tolerance is loose and it is left out for flat tets
-    // (6V / L^3 < 1e-4), so value_in alone decides which points are inside.
-    Eigen::Matrix3d edges;
-    edges << p[1] - p[0], p[2] - p[0], p[3] - p[0];
-    const double longest = std::max({edges.col(0).norm(), edges.col(1).norm(), edges.col(2).norm(),
-                                     (p[2] - p[1]).norm(), (p[3] - p[1]).norm(), (p[3] - p[2]).norm()});
-    const bool prefilter = std::abs(volume) > 1e-4 * longest * longest * longest;
-    const Eigen::Matrix3d to_bary = prefilter ? Eigen::Matrix3d(edges.inverse()) : Eigen::Matrix3d::Zero();
-    constexpr double kLoose = 1e-6;
-    for (int k = i0[2]; k <= i1[2]; ++k)
-      for (int j = i0[1]; j <= i1[1]; ++j)
-        for (int i = i0[0]; i <= i1[0]; ++i) {
-          if (prefilter) {
-            const Vec3 l = to_bary * (origin_ + h_ * Vec3(i, j, k) - p[0]);
-            if (!(l.minCoeff() >= -kLoose && l.sum() <= 1 + kLoose)) continue;
-          }
-          std::atomic<index_t>& o = owner[point_id(i, j, k)];
-          index_t current = o.load(std::memory_order_relaxed);
-          if (current != kInvalidIndex && current < ti) continue;
-          if (!(value_in(t, i, j, k) > 0)) continue;
-          while ((current == kInvalidIndex || current > ti) &&
-                 !o.compare_exchange_weak(current, static_cast<index_t>(ti), std::memory_order_relaxed)) {
-          }
+  parallel_for(ntotal,
+               [&](long g) { owner[static_cast<std::size_t>(g)].store(kInvalidIndex, std::memory_order_relaxed); });
+  parallel_for(
+      ntets,
+      [&](long ti) {
+        const Tet& t = tets[static_cast<std::size_t>(ti)];
+        const Vec3 p[4] = {points[t[0]], points[t[1]], points[t[2]], points[t[3]]};
+        const double volume = signed_volume6(p[0], p[1], p[2], p[3]);
+        if (volume == 0 || !std::isfinite(volume)) return;
+        Vec3 tlo = p[0], thi = p[0];
+        for (int q = 1; q < 4; ++q) {
+          tlo = tlo.cwiseMin(p[q]);
+          thi = thi.cwiseMax(p[q]);
         }
-  }
+        int i0[3], i1[3];
+        for (int a = 0; a < 3; ++a) {
+          i0[a] = std::max(0, static_cast<int>(std::ceil((tlo[a] - origin_[a]) / h_ - kTol)));
+          i1[a] = std::min(n_[a], static_cast<int>(std::floor((thi[a] - origin_[a]) / h_ + kTol)));
+        }
+        // Barycentric coordinates as an affine function of the grid point: a
+        // cheap first test that skips most of the box (a tet fills a sixth of
+        // it or less). Its tolerance is loose and it is left out for flat tets
+        // (6V / L^3 < 1e-4), so value_in alone decides which points are inside.
+        Eigen::Matrix3d edges;
+        edges << p[1] - p[0], p[2] - p[0], p[3] - p[0];
+        const double longest = std::max({edges.col(0).norm(), edges.col(1).norm(), edges.col(2).norm(),
+                                         (p[2] - p[1]).norm(), (p[3] - p[1]).norm(), (p[3] - p[2]).norm()});
+        const bool prefilter = std::abs(volume) > 1e-4 * longest * longest * longest;
+        const Eigen::Matrix3d to_bary = prefilter ? Eigen::Matrix3d(edges.inverse()) : Eigen::Matrix3d::Zero();
+        constexpr double kLoose = 1e-6;
+        for (int k = i0[2]; k <= i1[2]; ++k)
+          for (int j = i0[1]; j <= i1[1]; ++j)
+            for (int i = i0[0]; i <= i1[0]; ++i) {
+              if (prefilter) {
+                const Vec3 l = to_bary * (origin_ + h_ * Vec3(i, j, k) - p[0]);
+                if (!(l.minCoeff() >= -kLoose && l.sum() <= 1 + kLoose)) continue;
+              }
+              std::atomic<index_t>& o = owner[point_id(i, j, k)];
+              index_t current = o.load(std::memory_order_relaxed);
+              if (current != kInvalidIndex && current < ti) continue;
+              if (!(value_in(t, i, j, k) > 0)) continue;
+              while ((current == kInvalidIndex || current > ti) &&
+                     !o.compare_exchange_weak(current, static_cast<index_t>(ti), std::memory_order_relaxed)) {
+              }
+            }
+      },
+      kParallelMinItems, 1024);
   const int row = n_[0] + 1, rows = (n_[1] + 1) * (n_[2] + 1);
-#pragma omp parallel for schedule(static) if (ntotal >= kParallelMinItems)
-  for (int r = 0; r < rows; ++r)
-    for (int i = 0; i < row; ++i) {
-      const int j = r % (n_[1] + 1), k = r / (n_[1] + 1);
-      const std::size_t g = point_id(i, j, k);
-      const index_t t = owner[g].load(std::memory_order_relaxed);
-      if (t == kInvalidIndex) continue;
-      raw_points_[g] = value_in(tets[static_cast<std::size_t>(t)], i, j, k);
-      known[g] = 1;
-    }
+  parallel_for(
+      rows,
+      [&](long rl) {
+        const int r = static_cast<int>(rl);
+        for (int i = 0; i < row; ++i) {
+          const int j = r % (n_[1] + 1), k = r / (n_[1] + 1);
+          const std::size_t g = point_id(i, j, k);
+          const index_t t = owner[g].load(std::memory_order_relaxed);
+          if (t == kInvalidIndex) continue;
+          raw_points_[g] = value_in(tets[static_cast<std::size_t>(t)], i, j, k);
+          known[g] = 1;
+        }
+      },
+      parallel_when(ntotal >= kParallelMinItems));
   if (std::find(known.begin(), known.end(), 1) == known.end()) {
     *this = DensityGrid();
     return false;
@@ -314,24 +318,28 @@ bool DensityGrid::build(const std::vector<Vec3>& points, const std::vector<Tet>&
   cell_values_.assign(static_cast<std::size_t>(n_[0]) * n_[1] * n_[2], 0.0);
   std::vector<char> cell_known(cell_values_.size(), 0);
   const int cell_rows = n_[1] * n_[2];
-#pragma omp parallel for schedule(static) if (static_cast<long>(cell_values_.size()) >= kParallelMinItems)
-  for (int r = 0; r < cell_rows; ++r)
-      for (int i = 0; i < n_[0]; ++i) {
-        const int j = r % n_[1], k = r / n_[1];
-        double sum = 0;
-        int count = 0;
-        for (int c = 0; c < 8; ++c) {
-          const double v = raw_points_[point_id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))];
-          if (v > 0) {
-            sum += v;
-            ++count;
+  parallel_for(
+      cell_rows,
+      [&](long rl) {
+        const int r = static_cast<int>(rl);
+        for (int i = 0; i < n_[0]; ++i) {
+          const int j = r % n_[1], k = r / n_[1];
+          double sum = 0;
+          int count = 0;
+          for (int c = 0; c < 8; ++c) {
+            const double v = raw_points_[point_id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))];
+            if (v > 0) {
+              sum += v;
+              ++count;
+            }
+          }
+          if (count) {
+            cell_values_[cell_id(i, j, k)] = sum / count;
+            cell_known[cell_id(i, j, k)] = 1;
           }
         }
-        if (count) {
-          cell_values_[cell_id(i, j, k)] = sum / count;
-          cell_known[cell_id(i, j, k)] = 1;
-        }
-      }
+      },
+      parallel_when(static_cast<long>(cell_values_.size()) >= kParallelMinItems));
   fill_from_neighbours(n_, cell_values_, cell_known);
   return true;
 }

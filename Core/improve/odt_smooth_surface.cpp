@@ -6,6 +6,7 @@
 #include "improve/odt_smooth_surface.h"
 #include "improve/relax_edge_lengths.h"
 
+#include "common/parallel.h"
 #include "improve/boundary_geometry.h"
 #include "mesh/tet_mesh.h"
 #include "quality/tet_quality.h"
@@ -15,8 +16,6 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-
-#include <omp.h>
 
 namespace femorph {
 
@@ -206,57 +205,55 @@ SurfaceStencils surface_stencils(const TetMesh& mesh, const BoundaryGeometry& ge
   constexpr std::size_t kChunk = 256;
   const long chunks = static_cast<long>((candidates.size() + kChunk - 1) / kChunk);
   std::vector<SurfaceStencils> parts(static_cast<std::size_t>(chunks));
-  std::vector<TetMesh::WalkMarks> marks(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
-#pragma omp parallel if (candidates.size() >= 2 * kChunk)
-  {
-    std::vector<index_t> ball, link, edge_tets, edge_others;
-    std::vector<std::array<index_t, 3>> ring;
-    TetMesh::WalkMarks& my_marks = marks[static_cast<std::size_t>(omp_get_thread_num())];
-#pragma omp for schedule(dynamic, 1)
-    for (long chunk = 0; chunk < chunks; ++chunk) {
-      SurfaceStencils& out = parts[static_cast<std::size_t>(chunk)];
-      out.ball_start.push_back(0);
-      out.ring_start.push_back(0);
-      out.link_start.push_back(0);
-      const std::size_t end = std::min(candidates.size(), static_cast<std::size_t>(chunk + 1) * kChunk);
-      for (std::size_t k = static_cast<std::size_t>(chunk) * kChunk; k < end; ++k) {
-        const index_t v = candidates[k];
-        mesh.vertex_ball(v, ball, my_marks);
-        const VertexConstraint c = vertex_constraint(mesh, geometry, v, ball);
-        if (c.kind != VertexConstraint::Surface && c.kind != VertexConstraint::Discrete) continue;
-        // The 1-ring of boundary triangles: boundary faces of the ball.
-        ring.clear();
-        link.clear();
-        for (index_t t : ball) {
-          const Tet& T = mesh.tet(t);
-          for (int f = 0; f < 4; ++f) {
-            if (T[f] == v || !mesh.is_boundary_face(t, f)) continue;
-            std::array<index_t, 3> face{T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]};
-            while (face[0] != v) std::rotate(face.begin(), face.begin() + 1, face.end());
-            ring.push_back({face[1], face[2], t});
-            for (int i = 1; i < 3; ++i)
-              if (std::find(link.begin(), link.end(), face[i]) == link.end()) link.push_back(face[i]);
+  std::vector<TetMesh::WalkMarks> marks(static_cast<std::size_t>(parallel_threads()));
+  parallel_for_chunks(
+      static_cast<long>(candidates.size()),
+      [&](long begin, long end, int worker) {
+        std::vector<index_t> ball, link, edge_tets, edge_others;
+        std::vector<std::array<index_t, 3>> ring;
+        TetMesh::WalkMarks& my_marks = marks[static_cast<std::size_t>(worker)];
+        SurfaceStencils& out = parts[static_cast<std::size_t>(begin) / kChunk];
+        out.ball_start.push_back(0);
+        out.ring_start.push_back(0);
+        out.link_start.push_back(0);
+        for (std::size_t k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
+          const index_t v = candidates[k];
+          mesh.vertex_ball(v, ball, my_marks);
+          const VertexConstraint c = vertex_constraint(mesh, geometry, v, ball);
+          if (c.kind != VertexConstraint::Surface && c.kind != VertexConstraint::Discrete) continue;
+          // The 1-ring of boundary triangles: boundary faces of the ball.
+          ring.clear();
+          link.clear();
+          for (index_t t : ball) {
+            const Tet& T = mesh.tet(t);
+            for (int f = 0; f < 4; ++f) {
+              if (T[f] == v || !mesh.is_boundary_face(t, f)) continue;
+              std::array<index_t, 3> face{T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]};
+              while (face[0] != v) std::rotate(face.begin(), face.begin() + 1, face.end());
+              ring.push_back({face[1], face[2], t});
+              for (int i = 1; i < 3; ++i)
+                if (std::find(link.begin(), link.end(), face[i]) == link.end()) link.push_back(face[i]);
+            }
           }
+          if (ring.size() < 3) continue;
+          out.vertex.push_back(v);
+          out.constraint.push_back(c);
+          out.ball.insert(out.ball.end(), ball.begin(), ball.end());
+          out.ball_start.push_back(out.ball.size());
+          out.link.insert(out.link.end(), link.begin(), link.end());
+          out.link_start.push_back(out.link.size());
+          for (const auto& r : ring) {
+            out.ring.push_back(r);
+            std::array<int, 2> local{};
+            for (int i = 0; i < 2; ++i)
+              local[i] = static_cast<int>(std::find(link.begin(), link.end(), r[i]) - link.begin());
+            out.ring_local.push_back(local);
+            out.opposite.push_back(opposite_vertex(mesh, r[0], r[1], v, c.region_a, r[2], edge_tets, edge_others));
+          }
+          out.ring_start.push_back(out.ring.size());
         }
-        if (ring.size() < 3) continue;
-        out.vertex.push_back(v);
-        out.constraint.push_back(c);
-        out.ball.insert(out.ball.end(), ball.begin(), ball.end());
-        out.ball_start.push_back(out.ball.size());
-        out.link.insert(out.link.end(), link.begin(), link.end());
-        out.link_start.push_back(out.link.size());
-        for (const auto& r : ring) {
-          out.ring.push_back(r);
-          std::array<int, 2> local{};
-          for (int i = 0; i < 2; ++i)
-            local[i] = static_cast<int>(std::find(link.begin(), link.end(), r[i]) - link.begin());
-          out.ring_local.push_back(local);
-          out.opposite.push_back(opposite_vertex(mesh, r[0], r[1], v, c.region_a, r[2], edge_tets, edge_others));
-        }
-        out.ring_start.push_back(out.ring.size());
-      }
-    }
-  }
+      },
+      static_cast<long>(2 * kChunk), static_cast<long>(kChunk));
   SurfaceStencils out;
   out.ball_start.push_back(0);
   out.ring_start.push_back(0);
@@ -343,13 +340,23 @@ struct SurfaceScratch {
 
 }  // namespace
 
+namespace {
+
+/// What a sweep over the boundary vertices did.
+struct SweepCounts {
+  double max_step = 0;
+  std::size_t moved = 0, refused = 0, halvings = 0;
+};
+
+}  // namespace
+
 OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geometry,
                                    const BoundarySmoothOptions& options) {
   OdtSmoothReport report;
   const SurfaceStencils st = surface_stencils(mesh, geometry, options);
   std::vector<std::size_t> colour_start;
   const std::vector<std::size_t> order = colour_order(mesh, st, colour_start);
-  std::vector<SurfaceScratch> scratch(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+  std::vector<SurfaceScratch> scratch(static_cast<std::size_t>(parallel_threads()));
   // The quality guard reads each ball's minimum stretch: the stretch of
   // every tet of the balls is found once, in parallel, and kept as the
   // moves change it (vertices of one colour share no tet), instead of once
@@ -361,13 +368,13 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
     std::vector<std::uint8_t> in_ball(static_cast<std::size_t>(slots), 0);
     for (const index_t t : st.ball) in_ball[static_cast<std::size_t>(t)] = 1;
     stretch_of_tet.assign(static_cast<std::size_t>(slots), 0.0);
-#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
-    for (long t = 0; t < slots; ++t)
+    parallel_for(slots, [&](long t) {
       if (in_ball[static_cast<std::size_t>(t)]) {
         const Tet& T = mesh.tet(static_cast<index_t>(t));
         stretch_of_tet[static_cast<std::size_t>(t)] =
             tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3]));
       }
+    });
   }
 
   // One vertex: 1 moved (*step: its move over its mean edge length), 0
@@ -504,21 +511,34 @@ OdtSmoothReport odt_smooth_surface(TetMesh& mesh, const BoundaryGeometry& geomet
 
   for (int sweep = 0; sweep < options.iterations; ++sweep) {
     ++report.sweeps;
-    double max_step = 0;
-    std::size_t moved = 0, refused = 0, halvings = 0;
+    SweepCounts counts;
     for (std::size_t c = 0; c + 1 < colour_start.size(); ++c) {
       const long first = static_cast<long>(colour_start[c]), last = static_cast<long>(colour_start[c + 1]);
-#pragma omp parallel for schedule(dynamic, 64) reduction(max : max_step) reduction(+ : moved, refused, halvings) \
-    if (last - first >= 128)
-      for (long k = first; k < last; ++k) {
-        double step = 0;
-        const int r = smooth_vertex(order[static_cast<std::size_t>(k)],
-                                    scratch[static_cast<std::size_t>(omp_get_thread_num())], &step, &halvings);
-        moved += r == 1;
-        refused += r == 0;
-        if (r == 1) max_step = std::max(max_step, step);
-      }
+      const auto chunk = [&](long begin, long end, int worker) {
+        SweepCounts k;
+        for (long j = first + begin; j < first + end; ++j) {
+          double step = 0;
+          const int r = smooth_vertex(order[static_cast<std::size_t>(j)], scratch[static_cast<std::size_t>(worker)],
+                                      &step, &k.halvings);
+          k.moved += r == 1;
+          k.refused += r == 0;
+          if (r == 1) k.max_step = std::max(k.max_step, step);
+        }
+        return k;
+      };
+      counts = parallel_reduce(
+          last - first, counts, chunk,
+          [](SweepCounts a, const SweepCounts& b) {
+            a.max_step = std::max(a.max_step, b.max_step);
+            a.moved += b.moved;
+            a.refused += b.refused;
+            a.halvings += b.halvings;
+            return a;
+          },
+          128, 64);
     }
+    const double max_step = counts.max_step;
+    const std::size_t moved = counts.moved, refused = counts.refused, halvings = counts.halvings;
     report.moved += moved;
     report.refused += refused;
     report.halvings += halvings;

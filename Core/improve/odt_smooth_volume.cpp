@@ -3,6 +3,7 @@
 #include "improve/ball_quality.h"
 #include "improve/odt_smooth_volume.h"
 
+#include "common/parallel.h"
 #include "improve/coloured_balls.h"
 #include "improve/locally_delaunay.h"
 #include "improve/relax_edge_lengths.h"
@@ -63,6 +64,26 @@ bool odt_centre_step(const TetMesh& mesh, const std::vector<index_t>& ball, inde
   return true;
 }
 
+/// What a sweep over the vertices did.
+struct Sweep {
+  double max_step = 0;
+  std::size_t moved = 0, refused = 0, halvings = 0;
+};
+
+Sweep add_sweeps(Sweep a, const Sweep& b) {
+  a.max_step = std::max(a.max_step, b.max_step);
+  a.moved += b.moved;
+  a.refused += b.refused;
+  a.halvings += b.halvings;
+  return a;
+}
+
+/// Per-thread buffers of a sweep.
+struct BallScratch {
+  std::vector<index_t> ball, neighbours;
+  std::vector<double> new_stretch;
+};
+
 }  // namespace
 
 OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options) {
@@ -73,6 +94,7 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
   if (n == 0) return report;
   // Active set (per entry of cb.vertices): visit in this sweep; moved far.
   std::vector<std::uint8_t> active(n, 1), moved_far(n, 0);
+  std::vector<BallScratch> scratch(static_cast<std::size_t>(parallel_threads()));
   std::vector<index_t> entry(static_cast<std::size_t>(mesh.vertex_slots()), kInvalidIndex);
   for (std::size_t j = 0; j < n; ++j) entry[cb.vertices[j]] = static_cast<index_t>(j);
   // Per tet, for this sweep: 1 when its centre c_tau is the circumcentre
@@ -111,9 +133,8 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
       }
     }
     const long num_needed = static_cast<long>(needed_list.size());
-#pragma omp parallel for schedule(static) if (num_needed >= kParallelMinItems)
-    for (long i = 0; i < num_needed; ++i) {
-      const index_t t = needed_list[i];
+    parallel_for(num_needed, [&](long i) {
+      const index_t t = needed_list[static_cast<std::size_t>(i)];
       bool boundary = false;
       for (const index_t w : mesh.tet(t)) boundary = boundary || mesh.on_boundary(w);
       circumcentre[t] = !options.edge_density && !boundary && locally_delaunay(mesh, t);
@@ -121,19 +142,18 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
         const Tet& T = mesh.tet(t);
         stretch_of_tet[t] = tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3]));
       }
-    }
+    });
     for (const index_t t : needed_list) needed[t] = 0;
 
-    double max_step = 0;
-    std::size_t moved = 0, refused = 0, halvings = 0;
+    Sweep done;
     for (std::size_t c = 0; c + 1 < cb.colour_start.size(); ++c) {
       const long first = static_cast<long>(cb.colour_start[c]), last = static_cast<long>(cb.colour_start[c + 1]);
-#pragma omp parallel if (last - first >= 2048)
-      {
-        std::vector<index_t> ball, neighbours;
-        std::vector<double> new_stretch;
-#pragma omp for schedule(dynamic, 256) reduction(max : max_step) reduction(+ : moved, refused, halvings)
-        for (long j = first; j < last; ++j) {
+      const auto chunk = [&](long begin, long end, int worker) {
+        Sweep k;
+        std::vector<index_t>& ball = scratch[static_cast<std::size_t>(worker)].ball;
+        std::vector<index_t>& neighbours = scratch[static_cast<std::size_t>(worker)].neighbours;
+        std::vector<double>& new_stretch = scratch[static_cast<std::size_t>(worker)].new_stretch;
+        for (long j = first + begin; j < first + end; ++j) {
           if (!active[j]) continue;
           const index_t v = cb.vertices[j];
           ball.assign(cb.ball_tets.begin() + static_cast<std::ptrdiff_t>(cb.ball_start[j]),
@@ -172,17 +192,21 @@ OdtSmoothReport odt_smooth_volume(TetMesh& mesh, const OdtSmoothOptions& options
             alpha = move_with_step_halving(mesh, ball, v, options.max_halvings, false, options.quality_floor,
                                            candidate, &h);
           }
-          halvings += h;
+          k.halvings += h;
           if (alpha > 0) {
-            ++moved;
-            max_step = std::max(max_step, alpha * relative);
+            ++k.moved;
+            k.max_step = std::max(k.max_step, alpha * relative);
             moved_far[j] = alpha * relative > options.active_tolerance;
           } else {
-            ++refused;
+            ++k.refused;
           }
         }
-      }
+        return k;
+      };
+      done = parallel_reduce(last - first, done, chunk, add_sweeps, 2048, 256);
     }
+    const double max_step = done.max_step;
+    const std::size_t moved = done.moved, refused = done.refused, halvings = done.halvings;
     report.moved += moved;
     report.refused += refused;
     report.halvings += halvings;

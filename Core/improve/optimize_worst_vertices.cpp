@@ -1,5 +1,6 @@
 #include "improve/optimize_worst_vertices.h"
 
+#include "common/parallel.h"
 #include "improve/ball_quality.h"
 #include "improve/coloured_balls.h"
 #include "improve/scan_live_tets.h"
@@ -7,6 +8,7 @@
 #include "quality/tet_quality.h"
 
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -100,19 +102,24 @@ WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions
     std::size_t improved = 0;
     for (std::size_t c = 0; c + 1 < cb.colour_start.size(); ++c) {
       const long first = static_cast<long>(cb.colour_start[c]), last = static_cast<long>(cb.colour_start[c + 1]);
-#pragma omp parallel if (last - first >= 64)
-      {
-        std::vector<index_t> ball, neighbours;
-#pragma omp for schedule(dynamic, 16) reduction(+ : improved)
-        for (long j = first; j < last; ++j) {
-          const index_t v = cb.vertices[static_cast<std::size_t>(j)];
-          ball.assign(cb.ball_tets.begin() + static_cast<std::ptrdiff_t>(cb.ball_start[static_cast<std::size_t>(j)]),
-                      cb.ball_tets.begin() + static_cast<std::ptrdiff_t>(cb.ball_start[static_cast<std::size_t>(j) + 1]));
-          const Vec3 before = mesh.point(v);
-          compass_search_in_ball(mesh, v, ball, neighbours);
-          improved += mesh.point(v) != before;
-        }
-      }
+      improved += parallel_reduce(
+          last - first, std::size_t(0),
+          [&](long begin, long end, int) {
+            std::vector<index_t> ball, neighbours;
+            std::size_t k = 0;
+            for (long j = first + begin; j < first + end; ++j) {
+              const index_t v = cb.vertices[static_cast<std::size_t>(j)];
+              const std::size_t b = cb.ball_start[static_cast<std::size_t>(j)],
+                                e = cb.ball_start[static_cast<std::size_t>(j) + 1];
+              ball.assign(cb.ball_tets.begin() + static_cast<std::ptrdiff_t>(b),
+                          cb.ball_tets.begin() + static_cast<std::ptrdiff_t>(e));
+              const Vec3 before = mesh.point(v);
+              compass_search_in_ball(mesh, v, ball, neighbours);
+              k += mesh.point(v) != before;
+            }
+            return k;
+          },
+          std::plus<std::size_t>(), 64, 16);
     }
     stats.candidates += cb.vertices.size();
     stats.improved += improved;

@@ -1,5 +1,6 @@
 // Phased ODT smoothing, thesis 2.6.1.2 (Fig. 2.34).
 #include "improve/phased_odt.h"
+#include "common/parallel.h"
 
 #include "improve/control_mesh_density.h"
 #include "improve/control_shape_accuracy.h"
@@ -19,6 +20,7 @@
 #include "quality/tet_quality.h"
 
 #include <algorithm>
+#include <functional>
 #include <chrono>
 #include <utility>
 
@@ -32,9 +34,15 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 std::size_t count_inverted(const TetMesh& mesh, std::vector<index_t>* ids = nullptr) {
   const index_t slots = mesh.tet_slots();
-  std::size_t n = 0;
-#pragma omp parallel for schedule(static) reduction(+ : n) if (slots >= kParallelMinItems)
-  for (index_t t = 0; t < slots; ++t) n += mesh.tet_alive(t) && mesh.orientation(t) < 0;
+  const std::size_t n = parallel_reduce(
+      slots, std::size_t(0),
+      [&](long begin, long end, int) {
+        std::size_t k = 0;
+        for (long t = begin; t < end; ++t)
+          k += mesh.tet_alive(static_cast<index_t>(t)) && mesh.orientation(static_cast<index_t>(t)) < 0;
+        return k;
+      },
+      std::plus<std::size_t>());
   if (ids && n > 0)  // rare: listed serially, in id order
     for (index_t t = 0; t < slots; ++t)
       if (mesh.tet_alive(t) && mesh.orientation(t) < 0) ids->push_back(t);
@@ -107,18 +115,24 @@ void add_flips(PhasedOdtStats& stats, const FlipImproveReport& r) {
 /// `no_inner_vertex`, also how many of them have all four vertices on the
 /// boundary.
 std::size_t count_below(const TetMesh& mesh, double threshold, std::size_t* no_inner_vertex = nullptr) {
-  std::size_t n = 0, locked = 0;
-  const long slots = mesh.tet_slots();
-#pragma omp parallel for schedule(static) reduction(+ : n, locked) if (slots >= kParallelMinItems)
-  for (long t = 0; t < slots; ++t) {
-    if (!mesh.tet_alive(static_cast<index_t>(t))) continue;
-    const Tet& T = mesh.tet(static_cast<index_t>(t));
-    if (!(tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) < threshold)) continue;
-    ++n;
-    locked += std::all_of(T.begin(), T.end(), [&](index_t v) { return mesh.on_boundary(v); });
-  }
-  if (no_inner_vertex) *no_inner_vertex = locked;
-  return n;
+  using Counts = std::pair<std::size_t, std::size_t>;  // (below, of which without inner vertex)
+  const Counts c = parallel_reduce(
+      static_cast<long>(mesh.tet_slots()), Counts(0, 0),
+      [&](long begin, long end, int) {
+        Counts k(0, 0);
+        for (long t = begin; t < end; ++t) {
+          if (!mesh.tet_alive(static_cast<index_t>(t))) continue;
+          const Tet& T = mesh.tet(static_cast<index_t>(t));
+          if (!(tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) < threshold))
+            continue;
+          ++k.first;
+          k.second += std::all_of(T.begin(), T.end(), [&](index_t v) { return mesh.on_boundary(v); });
+        }
+        return k;
+      },
+      [](Counts a, Counts b) { return Counts(a.first + b.first, a.second + b.second); });
+  if (no_inner_vertex) *no_inner_vertex = c.second;
+  return c.first;
 }
 
 /// Vertices of the tets with stretch below `threshold`, among the movable
@@ -127,13 +141,12 @@ std::vector<std::uint8_t> vertices_of_poor_tets(const TetMesh& mesh, const std::
                                                 double threshold) {
   const long slots = mesh.tet_slots();
   std::vector<std::uint8_t> poor(static_cast<std::size_t>(slots), 0);
-#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
-  for (long t = 0; t < slots; ++t) {
-    if (!mesh.tet_alive(static_cast<index_t>(t))) continue;
+  parallel_for(slots, [&](long t) {
+    if (!mesh.tet_alive(static_cast<index_t>(t))) return;
     const Tet& T = mesh.tet(static_cast<index_t>(t));
     poor[static_cast<std::size_t>(t)] =
         tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) < threshold;
-  }
+  });
   std::vector<std::uint8_t> mask(static_cast<std::size_t>(mesh.vertex_slots()), 0);
   for (long t = 0; t < slots; ++t) {
     if (!poor[static_cast<std::size_t>(t)]) continue;

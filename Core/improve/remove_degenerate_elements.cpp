@@ -1,6 +1,7 @@
 // Degenerated element removal, thesis 2.6.2 Fig. 2.38 and Steps 1-4.
 #include "improve/remove_degenerate_elements.h"
 
+#include "common/parallel.h"
 #include "improve/collapse_min_stretch.h"
 #include "improve/scan_live_tets.h"
 #include "mesh/tet_mesh.h"
@@ -342,19 +343,23 @@ class DegenerateRemover {
         if (is_target(t, &qa)) heap.push({qa, t, m_.tet(t)});
       }
     }
-    qmin = std::numeric_limits<double>::infinity();
-    std::size_t remaining = 0;
-    const long slots = m_.tet_slots();
-#pragma omp parallel for schedule(static) reduction(min : qmin) reduction(+ : remaining) \
-    if (slots >= kParallelMinItems)
-    for (long i = 0; i < slots; ++i) {
-      const index_t t = static_cast<index_t>(i);
-      if (!m_.tet_alive(t)) continue;
-      double q;
-      if (is_target(t, &q)) ++remaining;
-      qmin = std::min(qmin, q);
-    }
-    st.remaining_below = remaining;
+    using Scan = std::pair<double, std::size_t>;  // (minimum stretch, tets still targeted)
+    const Scan scan = parallel_reduce(
+        static_cast<long>(m_.tet_slots()), Scan(std::numeric_limits<double>::infinity(), 0),
+        [&](long begin, long end, int) {
+          Scan k(std::numeric_limits<double>::infinity(), 0);
+          for (long i = begin; i < end; ++i) {
+            const index_t t = static_cast<index_t>(i);
+            if (!m_.tet_alive(t)) continue;
+            double q;
+            if (is_target(t, &q)) ++k.second;
+            k.first = std::min(k.first, q);
+          }
+          return k;
+        },
+        [](Scan a, Scan b) { return Scan(std::min(a.first, b.first), a.second + b.second); });
+    qmin = scan.first;
+    st.remaining_below = scan.second;
     st.min_stretch_after = qmin;
     return st;
   }

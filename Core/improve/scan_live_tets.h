@@ -4,6 +4,7 @@
 // vertices).
 #pragma once
 
+#include "common/parallel.h"
 #include "common/types.h"
 #include "mesh/tet_mesh.h"
 
@@ -27,15 +28,16 @@ std::vector<Acc> scan_live_tets(const TetMesh& mesh, const Acc& init, Fn&& fn) {
   const long slots = mesh.tet_slots();
   const long chunks = (slots + kTetScanChunk - 1) / kTetScanChunk;
   std::vector<Acc> acc(static_cast<std::size_t>(chunks), init);
-#pragma omp parallel for schedule(static) if (slots >= kParallelMinItems)
-  for (long c = 0; c < chunks; ++c) {
-    Acc& a = acc[static_cast<std::size_t>(c)];
-    const long end = std::min(slots, (c + 1) * kTetScanChunk);
-    for (long k = c * kTetScanChunk; k < end; ++k) {
-      const index_t t = static_cast<index_t>(k);
-      if (mesh.tet_alive(t)) fn(t, a);
-    }
-  }
+  parallel_for_chunks(
+      slots,
+      [&](long begin, long end, int) {
+        Acc& a = acc[static_cast<std::size_t>(begin / kTetScanChunk)];
+        for (long k = begin; k < end; ++k) {
+          const index_t t = static_cast<index_t>(k);
+          if (mesh.tet_alive(t)) fn(t, a);
+        }
+      },
+      kParallelMinItems, kTetScanChunk);
   return acc;
 }
 

@@ -1,5 +1,6 @@
 #include "improve/split_locked_tets.h"
 
+#include "common/parallel.h"
 #include "improve/ball_quality.h"
 #include "improve/optimize_worst_vertices.h"
 #include "improve/scan_live_tets.h"
@@ -158,11 +159,13 @@ LockedTetStats split_locked_tets(TetMesh& mesh, const LockedTetOptions& options)
     deferred.erase(deferred.begin(), deferred.begin() + static_cast<std::ptrdiff_t>(d));
     for (; next < locked.size() && n < kBatch; ++next) take(next);
     const long count = static_cast<long>(n);
-#pragma omp parallel for schedule(dynamic, 4) if (count >= 32)
-    for (long i = 0; i < count; ++i) {
-      LockedTet& e = batch[static_cast<std::size_t>(i)];
-      evaluate_locked_tet(mesh, e.slot, e);
-    }
+    parallel_for(
+        count,
+        [&](long i) {
+          LockedTet& e = batch[static_cast<std::size_t>(i)];
+          evaluate_locked_tet(mesh, e.slot, e);
+        },
+        32, 4);
     ++batch_id;
     const auto untouched = [&](index_t w) {
       return static_cast<std::size_t>(w) >= changed.size() || changed[static_cast<std::size_t>(w)] != batch_id;

@@ -2,18 +2,20 @@
 // adjacency codes, the manifold checks and the vertex classes (thesis
 // Fig. 2.37) of a mesh given as points and tets.
 #include "mesh/tet_mesh.h"
+#include "common/parallel.h"
 
 #include "geometry/predicates.h"
 #include "mesh/tet_mesh_internal.h"
 
+#include <utility>
+#include <functional>
+#include <array>
 #include <algorithm>
 #include <limits>
 #include <memory>
 #include <numeric>
 #include <sstream>
 #include <string>
-
-#include <omp.h>
 
 namespace femorph {
 
@@ -70,9 +72,14 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
   // The passes over every point, tet or face run in parallel where they
   // are independent (the result does not depend on the number of threads).
   const long npoints = static_cast<long>(points.size()), ntets = static_cast<long>(nt);
-  std::size_t nonfinite = 0;
-#pragma omp parallel for schedule(static) reduction(+ : nonfinite) if (npoints >= kParallelMinItems)
-  for (long i = 0; i < npoints; ++i) nonfinite += !points[static_cast<std::size_t>(i)].allFinite();
+  const std::size_t nonfinite = parallel_reduce(
+      npoints, std::size_t(0),
+      [&](long begin, long end, int) {
+        std::size_t k = 0;
+        for (long i = begin; i < end; ++i) k += !points[static_cast<std::size_t>(i)].allFinite();
+        return k;
+      },
+      std::plus<std::size_t>());
   if (nonfinite) return fail(plural(nonfinite, "point has", "points have") + " NaN or infinite coordinates");
 
   for (std::size_t t = 0; t < nt; ++t) {
@@ -89,16 +96,26 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
 
   // Orientation: count signs exactly; an all-negative input is flipped.
   std::vector<signed char> sign(nt);
-  std::size_t npos = 0, nneg = 0, nzero = 0;
-#pragma omp parallel for schedule(static) reduction(+ : npos, nneg, nzero) if (ntets >= kParallelMinItems)
-  for (long i = 0; i < ntets; ++i) {
-    const std::size_t t = static_cast<std::size_t>(i);
-    const Tet& T = tets[t];
-    sign[t] = static_cast<signed char>(orient3d_sign(points[T[0]], points[T[1]], points[T[2]], points[T[3]]));
-    npos += sign[t] > 0;
-    nneg += sign[t] < 0;
-    nzero += sign[t] == 0;
-  }
+  using Signs = std::array<std::size_t, 3>;  // positive, negative, zero
+  const Signs signs = parallel_reduce(
+      ntets, Signs{},
+      [&](long begin, long end, int) {
+        Signs k{};
+        for (long i = begin; i < end; ++i) {
+          const std::size_t t = static_cast<std::size_t>(i);
+          const Tet& T = tets[t];
+          sign[t] = static_cast<signed char>(orient3d_sign(points[T[0]], points[T[1]], points[T[2]], points[T[3]]));
+          k[0] += sign[t] > 0;
+          k[1] += sign[t] < 0;
+          k[2] += sign[t] == 0;
+        }
+        return k;
+      },
+      [](Signs a, const Signs& b) {
+        return Signs{a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+      });
+  std::size_t npos = signs[0], nneg = signs[1];
+  const std::size_t nzero = signs[2];
   std::vector<Tet> regions = options.face_regions;
   if (nneg > npos) {
     // The other convention: swapping local vertices 1 and 2 flips every tet;
@@ -126,91 +143,108 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
     r.code = static_cast<index_t>(4 * t + f);
     return r;
   };
-  // Each thread counts its own tets' faces per bucket and writes them into
-  // its own part of each bucket (the same static split of the tets in both
-  // loops), so no counter is shared between threads: no atomics.
+  // The tets are cut into a few parts; each part's faces are counted per
+  // bucket and written into the part's own share of each bucket (the same
+  // parts in both loops), so no counter is shared between threads: no
+  // atomics. A few more parts than threads, so that a thread on a busy core
+  // takes fewer of them (each part holds a count per vertex).
   std::vector<index_t> start(static_cast<std::size_t>(nv) + 1, 0);
   const std::unique_ptr<FaceRecord[]> faces(new FaceRecord[4 * nt]);
   {
-    const int threads = ntets >= kParallelMinItems ? std::max(1, omp_get_max_threads()) : 1;
-    std::vector<std::vector<index_t>> fill(static_cast<std::size_t>(threads));
-#pragma omp parallel num_threads(threads)
-    {
-      const int id = omp_get_thread_num();
-      std::vector<index_t>& mine = fill[static_cast<std::size_t>(id)];
-      mine.assign(static_cast<std::size_t>(nv), 0);
-#pragma omp for schedule(static)
-      for (long i = 0; i < ntets; ++i) {
-        const Tet& T = tets[static_cast<std::size_t>(i)];
-        for (int f = 0; f < 4; ++f)
-          ++mine[static_cast<std::size_t>(std::min({T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]}))];
-      }
-      // Bucket starts, then each thread's offset inside each bucket.
-#pragma omp single
-      {
-        const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());  // may be fewer than asked
-        index_t next = 0;
-        for (index_t v = 0; v < nv; ++v) {
-          start[static_cast<std::size_t>(v)] = next;
-          for (std::size_t k = 0; k < team; ++k) {
-            index_t& count = fill[k][static_cast<std::size_t>(v)];
-            const index_t n = count;
-            count = next;
-            next += n;
+    const int threads = ntets >= kParallelMinItems ? parallel_threads() : 1;
+    const long parts = threads > 1 ? threads + 2L : 1;
+    const long part = std::max(1L, (ntets + parts - 1) / parts);
+    std::vector<std::vector<index_t>> fill(static_cast<std::size_t>(parts));
+    parallel_for_chunks(
+        ntets,
+        [&](long begin, long end, int) {
+          std::vector<index_t>& mine = fill[static_cast<std::size_t>(begin / part)];
+          mine.assign(static_cast<std::size_t>(nv), 0);
+          for (long i = begin; i < end; ++i) {
+            const Tet& T = tets[static_cast<std::size_t>(i)];
+            for (int f = 0; f < 4; ++f)
+              ++mine[static_cast<std::size_t>(std::min({T[kTetFace[f][0]], T[kTetFace[f][1]], T[kTetFace[f][2]]}))];
           }
-        }
-        start[static_cast<std::size_t>(nv)] = next;
+        },
+        kParallelMinItems, part);
+    // Bucket starts, then each part's offset inside each bucket (parts left
+    // empty by a short range have no counts).
+    index_t next = 0;
+    for (index_t v = 0; v < nv; ++v) {
+      start[static_cast<std::size_t>(v)] = next;
+      for (std::vector<index_t>& counts : fill) {
+        if (counts.empty()) continue;
+        index_t& count = counts[static_cast<std::size_t>(v)];
+        const index_t n = count;
+        count = next;
+        next += n;
       }
-#pragma omp for schedule(static)
-      for (long i = 0; i < ntets; ++i)
-        for (int f = 0; f < 4; ++f) {
-          const FaceRecord r = face_record(static_cast<std::size_t>(i), f);
-          faces[static_cast<std::size_t>(mine[static_cast<std::size_t>(r.v[0])]++)] = r;
-        }
     }
+    start[static_cast<std::size_t>(nv)] = next;
+    parallel_for_chunks(
+        ntets,
+        [&](long begin, long end, int) {
+          std::vector<index_t>& mine = fill[static_cast<std::size_t>(begin / part)];
+          for (long i = begin; i < end; ++i)
+            for (int f = 0; f < 4; ++f) {
+              const FaceRecord r = face_record(static_cast<std::size_t>(i), f);
+              faces[static_cast<std::size_t>(mine[static_cast<std::size_t>(r.v[0])]++)] = r;
+            }
+        },
+        kParallelMinItems, part);
   }
   const auto by_key_then_code = [](const FaceRecord& x, const FaceRecord& y) {
     return x < y || (x.same_face(y) && x.code < y.code);
   };
-#pragma omp parallel for schedule(dynamic, 4096) if (nv >= kParallelMinItems)
-  for (index_t v = 0; v < nv; ++v) std::sort(&faces[start[v]], &faces[start[v + 1]], by_key_then_code);
+  parallel_for(
+      nv, [&](long v) { std::sort(&faces[start[v]], &faces[start[v + 1]], by_key_then_code); }, kParallelMinItems,
+      4096);
 
   rec_.resize(nt);
-#pragma omp parallel for schedule(static) if (ntets >= kParallelMinItems)
-  for (long t = 0; t < ntets; ++t)
+  parallel_for(ntets, [&](long t) {
     rec_[static_cast<std::size_t>(t)] = TetRecord{tets[static_cast<std::size_t>(t)], Tet{{-1, -1, -1, -1}}};
+  });
   std::vector<Tet>().swap(tets);
-  std::size_t overshared = 0, mismatched = 0, boundary = 0;
   std::vector<char> offending(nt, 0);
-#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : overshared, mismatched, boundary) \
-    if (nv >= kParallelMinItems)
-  for (index_t v = 0; v < nv; ++v)
-  for (std::size_t i = static_cast<std::size_t>(start[v]), last = static_cast<std::size_t>(start[v + 1]); i < last;) {
-    std::size_t j = i + 1;
-    while (j < last && faces[j].same_face(faces[i])) ++j;
-    if (j - i == 1) {
-      ++boundary;
-      const index_t t = faces[i].code >> 2, f = faces[i].code & 3;
-      const index_t region = regions.empty() ? kInvalidIndex : std::max<index_t>(regions[t][f], -1);
-      rec_[t].n[f] = internal::boundary_code(region);
-    } else if (j - i == 2) {
-      const index_t a = faces[i].code, b = faces[i + 1].code;
-      rec_[a >> 2].n[a & 3] = b;
-      rec_[b >> 2].n[b & 3] = a;
-      // Two tets agree on orientation when they traverse the shared face in
-      // opposite cyclic orders.
-      if (faces[i].odd == faces[i + 1].odd) {
-        ++mismatched;
-        const index_t ta = a >> 2, tb = b >> 2;
-        // Blame the tet whose volume sign is the minority one.
-#pragma omp atomic write
-        offending[sign[ta] < 0 ? ta : (sign[tb] < 0 ? tb : ta)] = 1;
-      }
-    } else {
-      overshared += j - i;
-    }
-    i = j;
-  }
+  using Matches = std::array<std::size_t, 3>;  // overshared, mismatched, boundary
+  const Matches matches = parallel_reduce(
+      nv, Matches{},
+      [&](long vbegin, long vend, int) {
+        std::size_t overshared = 0, mismatched = 0, boundary = 0;
+        for (index_t v = static_cast<index_t>(vbegin); v < static_cast<index_t>(vend); ++v)
+          for (std::size_t i = static_cast<std::size_t>(start[v]), last = static_cast<std::size_t>(start[v + 1]);
+               i < last;) {
+            std::size_t j = i + 1;
+            while (j < last && faces[j].same_face(faces[i])) ++j;
+            if (j - i == 1) {
+              ++boundary;
+              const index_t t = faces[i].code >> 2, f = faces[i].code & 3;
+              const index_t region = regions.empty() ? kInvalidIndex : std::max<index_t>(regions[t][f], -1);
+              rec_[t].n[f] = internal::boundary_code(region);
+            } else if (j - i == 2) {
+              const index_t a = faces[i].code, b = faces[i + 1].code;
+              rec_[a >> 2].n[a & 3] = b;
+              rec_[b >> 2].n[b & 3] = a;
+              // Two tets agree on orientation when they traverse the shared face in
+              // opposite cyclic orders.
+              if (faces[i].odd == faces[i + 1].odd) {
+                ++mismatched;
+                const index_t ta = a >> 2, tb = b >> 2;
+                // Blame the tet whose volume sign is the minority one.
+                __atomic_store_n(&offending[sign[ta] < 0 ? ta : (sign[tb] < 0 ? tb : ta)], char(1), __ATOMIC_RELAXED);
+              }
+            } else {
+              overshared += j - i;
+            }
+            i = j;
+          }
+        return Matches{overshared, mismatched, boundary};
+      },
+      [](Matches a, const Matches& b) {
+        return Matches{a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+      },
+      kParallelMinItems, 4096);
+  const std::size_t overshared = matches[0], mismatched = matches[1], boundary = matches[2];
   if (overshared)
     return fail("the mesh is not conformal: " + plural(overshared, "tet face is", "tet faces are") +
                 " shared by more than two tets");
@@ -255,24 +289,29 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
   // Manifold vertex neighbourhoods: the ball walk must reach every incident
   // tet (otherwise local operations would see only part of the vertex).
   // The same ball classifies the vertex (used only when the build succeeds).
-  std::size_t nonmanifold_vertices = 0;
-  index_t first_bad = std::numeric_limits<index_t>::max();
-#pragma omp parallel reduction(+ : nonmanifold_vertices) reduction(min : first_bad) if (nv >= kParallelMinItems)
-  {
-    WalkMarks marks;
-    std::vector<index_t> ball;
-#pragma omp for schedule(dynamic, 4096)
-    for (index_t v = 0; v < nv; ++v) {
-      if (vertex_tet_[v] < 0) continue;
-      vertex_ball(v, ball, marks);
-      if (static_cast<index_t>(ball.size()) != incidence[v]) {
-        ++nonmanifold_vertices;
-        first_bad = std::min(first_bad, v);
-      } else {
-        vclass_[v] = classify_ball(v, ball);
-      }
-    }
-  }
+  using Bad = std::pair<std::size_t, index_t>;  // count, first
+  std::vector<WalkMarks> marks(static_cast<std::size_t>(parallel_threads()));
+  std::vector<std::vector<index_t>> balls(marks.size());
+  const Bad bad = parallel_reduce(
+      nv, Bad(0, std::numeric_limits<index_t>::max()),
+      [&](long begin, long end, int worker) {
+        Bad k(0, std::numeric_limits<index_t>::max());
+        std::vector<index_t>& ball = balls[static_cast<std::size_t>(worker)];
+        for (index_t v = static_cast<index_t>(begin); v < static_cast<index_t>(end); ++v) {
+          if (vertex_tet_[v] < 0) continue;
+          vertex_ball(v, ball, marks[static_cast<std::size_t>(worker)]);
+          if (static_cast<index_t>(ball.size()) != incidence[v]) {
+            ++k.first;
+            k.second = std::min(k.second, v);
+          } else {
+            vclass_[v] = classify_ball(v, ball);
+          }
+        }
+        return k;
+      },
+      [](Bad a, Bad b) { return Bad(a.first + b.first, std::min(a.second, b.second)); }, kParallelMinItems, 4096);
+  const std::size_t nonmanifold_vertices = bad.first;
+  const index_t first_bad = bad.second;
   if (nonmanifold_vertices)
     return fail("the mesh is not manifold: the tets around " +
                 plural(nonmanifold_vertices, "vertex are", "vertices are") +

@@ -2,8 +2,11 @@
 // regions of the boundary faces around each vertex, and the curve-edge test
 // they rest on: a boundary edge whose two boundary faces differ in region.
 #include "mesh/tet_mesh.h"
+#include "common/parallel.h"
 
 #include "mesh/tet_mesh_internal.h"
+
+#include <vector>
 
 namespace femorph {
 
@@ -64,20 +67,21 @@ VertexClass TetMesh::classify_ball(index_t v, const std::vector<index_t>& ball) 
 
 void TetMesh::classify_vertices() {
   const index_t n = vertex_slots();
-#pragma omp parallel if (n >= kParallelMinItems)
-  {
-    WalkMarks marks;
-    std::vector<index_t> ball;
-#pragma omp for schedule(dynamic, 4096)
-    for (index_t v = 0; v < n; ++v) {
-      if (!vertex_alive(v)) {
-        vclass_[v] = VertexClass::Inner;
-        continue;
-      }
-      vertex_ball(v, ball, marks);
-      vclass_[v] = classify_ball(v, ball);
-    }
-  }
+  std::vector<WalkMarks> marks(static_cast<std::size_t>(parallel_threads()));
+  std::vector<std::vector<index_t>> balls(marks.size());
+  parallel_for_worker(
+      n,
+      [&](long i, int worker) {
+        const index_t v = static_cast<index_t>(i);
+        if (!vertex_alive(v)) {
+          vclass_[v] = VertexClass::Inner;
+          return;
+        }
+        std::vector<index_t>& ball = balls[static_cast<std::size_t>(worker)];
+        vertex_ball(v, ball, marks[static_cast<std::size_t>(worker)]);
+        vclass_[v] = classify_ball(v, ball);
+      },
+      kParallelMinItems, 4096);
 }
 
 }  // namespace femorph

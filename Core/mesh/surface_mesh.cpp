@@ -1,7 +1,10 @@
 // build_surface_mesh: the closed triangulated surface the segmentation works
 // on (thesis 2.4), with edge adjacency found through vertex stars in O(#F).
 #include "mesh/surface_mesh.h"
+#include "common/parallel.h"
 
+#include <functional>
+#include <array>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -47,22 +50,27 @@ Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, 
   // Normals and areas.
   out.normals.resize(nf);
   out.areas.resize(nf);
-  std::size_t degenerate = 0;
-#pragma omp parallel for schedule(static) reduction(+ : degenerate) if(nf >= kParallelMinItems)
-  for (index_t f = 0; f < nf; ++f) {
-    const Vec3& a = p[tris[f][0]];
-    const Vec3 e1 = p[tris[f][1]] - a, e2 = p[tris[f][2]] - a;
-    const Vec3 c = e1.cross(e2);
-    const double twice_area = c.norm();
-    const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (e2 - e1).squaredNorm()});
-    out.areas[f] = 0.5 * twice_area;
-    if (twice_area > kDegenerateRatio * longest2 && twice_area > 0) {
-      out.normals[f] = c / twice_area;
-    } else {
-      out.normals[f].setZero();
-      ++degenerate;
-    }
-  }
+  const std::size_t degenerate = parallel_reduce(
+      static_cast<long>(nf), std::size_t(0),
+      [&](long begin, long end, int) {
+        std::size_t count = 0;
+        for (index_t f = static_cast<index_t>(begin); f < static_cast<index_t>(end); ++f) {
+          const Vec3& a = p[tris[f][0]];
+          const Vec3 e1 = p[tris[f][1]] - a, e2 = p[tris[f][2]] - a;
+          const Vec3 c = e1.cross(e2);
+          const double twice_area = c.norm();
+          const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (e2 - e1).squaredNorm()});
+          out.areas[f] = 0.5 * twice_area;
+          if (twice_area > kDegenerateRatio * longest2 && twice_area > 0) {
+            out.normals[f] = c / twice_area;
+          } else {
+            out.normals[f].setZero();
+            ++count;
+          }
+        }
+        return count;
+      },
+      std::plus<std::size_t>());
 
   // Vertex -> triangle incidence (CSR, triangles in ascending order).
   out.vertex_offsets.assign(static_cast<std::size_t>(np) + 1, 0);
@@ -79,41 +87,50 @@ Status build_surface_mesh(std::vector<Vec3> points, std::vector<Tri> triangles, 
   // Edge adjacency: the triangles sharing edge (a, b) are found in the star of
   // a. Each edge is counted once: by its lowest triangle.
   out.neighbors.resize(nf);
-  std::size_t open = 0, nonmanifold = 0, misoriented = 0;
-#pragma omp parallel for schedule(static) reduction(+ : open, nonmanifold, misoriented) if(nf >= kParallelMinItems)
-  for (index_t f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const index_t a = tris[f][k], b = tris[f][(k + 1) % 3];
-      index_t other = kInvalidIndex, lowest = f;
-      int count = 0;
-      bool same_direction = false;
-      for (index_t s = out.vertex_offsets[a]; s < out.vertex_offsets[a + 1]; ++s) {
-        const index_t g = out.vertex_triangles[s];
-        if (g == f) continue;
-        const Tri& t = tris[g];
-        const int ia = t[0] == a ? 0 : (t[1] == a ? 1 : 2);
-        if (t[(ia + 1) % 3] == b) {
-          same_direction = true;  // g also runs a -> b
-        } else if (t[(ia + 2) % 3] != b) {
-          continue;
+  using EdgeCounts = std::array<std::size_t, 3>;  // open, nonmanifold, misoriented
+  const EdgeCounts counts = parallel_reduce(
+      static_cast<long>(nf), EdgeCounts{},
+      [&](long begin, long end, int) {
+        std::size_t open = 0, nonmanifold = 0, misoriented = 0;
+        for (index_t f = static_cast<index_t>(begin); f < static_cast<index_t>(end); ++f) {
+          for (int k = 0; k < 3; ++k) {
+            const index_t a = tris[f][k], b = tris[f][(k + 1) % 3];
+            index_t other = kInvalidIndex, lowest = f;
+            int count = 0;
+            bool same_direction = false;
+            for (index_t s = out.vertex_offsets[a]; s < out.vertex_offsets[a + 1]; ++s) {
+              const index_t g = out.vertex_triangles[s];
+              if (g == f) continue;
+              const Tri& t = tris[g];
+              const int ia = t[0] == a ? 0 : (t[1] == a ? 1 : 2);
+              if (t[(ia + 1) % 3] == b) {
+                same_direction = true;  // g also runs a -> b
+              } else if (t[(ia + 2) % 3] != b) {
+                continue;
+              }
+              ++count;
+              other = g;
+              lowest = std::min(lowest, g);
+            }
+            if (count == 1) {
+              out.neighbors[f][k] = other;
+              if (f < other) misoriented += same_direction;
+            } else {
+              out.neighbors[f][k] = kInvalidIndex;
+              if (count == 0) {
+                ++open;
+              } else if (lowest == f) {
+                ++nonmanifold;
+              }
+            }
+          }
         }
-        ++count;
-        other = g;
-        lowest = std::min(lowest, g);
-      }
-      if (count == 1) {
-        out.neighbors[f][k] = other;
-        if (f < other) misoriented += same_direction;
-      } else {
-        out.neighbors[f][k] = kInvalidIndex;
-        if (count == 0) {
-          ++open;
-        } else if (lowest == f) {
-          ++nonmanifold;
-        }
-      }
-    }
-  }
+        return EdgeCounts{open, nonmanifold, misoriented};
+      },
+      [](EdgeCounts a, const EdgeCounts& b) {
+        return EdgeCounts{a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+      });
+  const std::size_t open = counts[0], nonmanifold = counts[1], misoriented = counts[2];
   // Mean edge length, each edge once, summed in a fixed order so that it does
   // not depend on the number of threads (thresholds downstream scale by it).
   double length_sum = 0;

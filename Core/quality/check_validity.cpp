@@ -1,7 +1,9 @@
 #include "quality/check_validity.h"
+#include "common/parallel.h"
 
 #include "geometry/predicates.h"
 
+#include <utility>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -157,18 +159,24 @@ void check_input(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
 void check_orientation(const std::vector<Vec3>& points, const std::vector<Tet>& tets,
                        ValidityReport& report, Flags& flags) {
   const std::int64_t num_tets = static_cast<std::int64_t>(tets.size());
-  std::size_t inverted = 0, degenerate = 0;
-#pragma omp parallel for schedule(static) reduction(+ : inverted, degenerate) if(num_tets >= kParallelMinItems)
-  for (std::int64_t t = 0; t < num_tets; ++t) {
-    if (!flags.usable[t] || flags.bad_tet[t]) continue;  // bad ids or a non-finite point
-    const Tet& tet = tets[t];
-    const int sign = orient3d_sign(points[tet[0]], points[tet[1]], points[tet[2]], points[tet[3]]);
-    inverted += sign < 0;
-    degenerate += sign == 0;
-    if (sign <= 0) flags.bad_tet[t] = 1;
-  }
-  report.inverted = inverted;
-  report.degenerate = degenerate;
+  using Counts = std::pair<std::size_t, std::size_t>;  // (inverted, degenerate)
+  const Counts counts = parallel_reduce(
+      static_cast<long>(num_tets), Counts(0, 0),
+      [&](long begin, long end, int) {
+        Counts k(0, 0);
+        for (long t = begin; t < end; ++t) {
+          if (!flags.usable[t] || flags.bad_tet[t]) continue;  // bad ids or a non-finite point
+          const Tet& tet = tets[static_cast<std::size_t>(t)];
+          const int sign = orient3d_sign(points[tet[0]], points[tet[1]], points[tet[2]], points[tet[3]]);
+          k.first += sign < 0;
+          k.second += sign == 0;
+          if (sign <= 0) flags.bad_tet[t] = 1;
+        }
+        return k;
+      },
+      [](Counts a, Counts b) { return Counts(a.first + b.first, a.second + b.second); });
+  report.inverted = counts.first;
+  report.degenerate = counts.second;
 }
 
 // 4. Matches the faces of usable tets: buckets them by their smallest id
@@ -205,9 +213,10 @@ void match_faces(std::size_t num_points, const std::vector<Tet>& tets, ValidityR
       }
     }
   }
-#pragma omp parallel for schedule(dynamic, 4096) if(num_points >= static_cast<std::size_t>(kParallelMinItems))
-  for (std::int64_t v = 0; v < static_cast<std::int64_t>(num_points); ++v)
-    std::sort(faces.begin() + bucket_start[v], faces.begin() + bucket_start[v + 1]);
+  parallel_for(
+      static_cast<long>(num_points),
+      [&](long v) { std::sort(faces.begin() + bucket_start[v], faces.begin() + bucket_start[v + 1]); },
+      kParallelMinItems, 4096);
 
   for (std::size_t lo = 0; lo < num_points; ++lo) {
     const std::int64_t end = bucket_start[lo + 1];
@@ -322,46 +331,45 @@ void check_vertices(const std::vector<TetLinks>& links, const std::vector<std::i
   }
 
   std::vector<std::uint8_t> nonmanifold(num_points, 0);
-  std::size_t count = 0;
-#pragma omp parallel reduction(+ : count) if(num_points >= static_cast<std::size_t>(kParallelMinItems))
-  {
-    DisjointSets components;  // over positions in one ball
-    std::vector<index_t> seen(num_points, kInvalidIndex);  // last point whose link saw it
-#pragma omp for schedule(dynamic, 1024)
-    for (std::int64_t v = 0; v < static_cast<std::int64_t>(num_points); ++v) {
-      const index_t* begin = ball.data() + ball_start[v];
-      const index_t* end = ball.data() + ball_start[v + 1];
-      const std::int64_t degree = end - begin;
-      if (degree == 0) continue;
-      components.reset(degree);
-      std::int64_t link_vertices = 0, link_edges = 0;
-      for (std::int64_t i = 0; i < degree; ++i) {
-        const index_t t = begin[i];
-        const TetLinks& tet = links[t];
-        for (int f = 0; f < 4; ++f) {
-          const index_t w = tet.ids[f];
-          if (w == v) continue;
-          if (seen[w] != v) {
-            seen[w] = static_cast<index_t>(v);
-            ++link_vertices;
+  // Per thread: sets over positions in one ball; per point, the last point
+  // whose link saw it.
+  std::vector<DisjointSets> components_by(static_cast<std::size_t>(parallel_threads()));
+  std::vector<std::vector<index_t>> seen_by(components_by.size());
+  parallel_for_worker(
+      static_cast<long>(num_points),
+      [&](long v, int worker) {
+        DisjointSets& components = components_by[static_cast<std::size_t>(worker)];
+        std::vector<index_t>& seen = seen_by[static_cast<std::size_t>(worker)];
+        if (seen.empty()) seen.assign(num_points, kInvalidIndex);
+        const index_t* begin = ball.data() + ball_start[v];
+        const index_t* end = ball.data() + ball_start[v + 1];
+        const std::int64_t degree = end - begin;
+        if (degree == 0) return;
+        components.reset(degree);
+        std::int64_t link_vertices = 0, link_edges = 0;
+        for (std::int64_t i = 0; i < degree; ++i) {
+          const index_t t = begin[i];
+          const TetLinks& tet = links[t];
+          for (int f = 0; f < 4; ++f) {
+            const index_t w = tet.ids[f];
+            if (w == v) continue;
+            if (seen[w] != v) {
+              seen[w] = static_cast<index_t>(v);
+              ++link_vertices;
+            }
+            // Face f contains v; across it (if manifold) lies tet t2.
+            const index_t across = tet.across[f];
+            const index_t t2 = across < 0 ? kInvalidIndex : across / 4;
+            if (t2 < t) ++link_edges;  // each face once
+            if (t2 > t) components.unite(i, std::lower_bound(begin, end, t2) - begin);
           }
-          // Face f contains v; across it (if manifold) lies tet t2.
-          const index_t across = tet.across[f];
-          const index_t t2 = across < 0 ? kInvalidIndex : across / 4;
-          if (t2 < t) ++link_edges;  // each face once
-          if (t2 > t) components.unite(i, std::lower_bound(begin, end, t2) - begin);
         }
-      }
-      bool bad = components.roots() > 1 || fans[v] > 1;
-      if (!bad && !flags.skip_link[v])
-        bad = link_vertices - link_edges + degree != (fans[v] == 0 ? 2 : 1);
-      if (bad) {
-        nonmanifold[v] = 1;
-        ++count;
-      }
-    }
-  }
-  report.nonmanifold_vertices = count;
+        bool bad = components.roots() > 1 || fans[v] > 1;
+        if (!bad && !flags.skip_link[v]) bad = link_vertices - link_edges + degree != (fans[v] == 0 ? 2 : 1);
+        if (bad) nonmanifold[v] = 1;
+      },
+      kParallelMinItems, 1024);
+  report.nonmanifold_vertices = static_cast<std::size_t>(std::count(nonmanifold.begin(), nonmanifold.end(), 1));
   for (std::size_t v = 0; v < num_points; ++v)
     if (nonmanifold[v]) {
       flags.bad_point[v] = 1;

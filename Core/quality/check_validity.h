@@ -79,7 +79,7 @@ struct ValidityReport {
 ///   options  which families of checks to run (ValidityOptions)
 /// Returns a ValidityReport.
 ///
-/// Cost: O(T log T) time and about 100 bytes per tet; partly parallel (OpenMP).
+/// Cost: O(T log T) time and about 100 bytes per tet; partly parallel (common/parallel.h).
 /// Faster with ids in spatial order than randomly shuffled (cache misses).
 ///
 /// Checks, in order:

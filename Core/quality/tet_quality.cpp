@@ -1,4 +1,5 @@
 #include "quality/tet_quality.h"
+#include "common/parallel.h"
 
 #include <Eigen/Geometry>
 
@@ -189,9 +190,8 @@ void compute_tet_quality(const std::vector<Vec3>& points, const std::vector<Tet>
                          double* signed_volume) {
   const bool want_dihedral = min_dihedral || max_dihedral;
   const std::int64_t count = static_cast<std::int64_t>(tets.size());
-#pragma omp parallel for schedule(static) if(count >= kParallelMinItems)
-  for (std::int64_t t = 0; t < count; ++t) {
-    const Tet& tet = tets[t];
+  parallel_for(static_cast<long>(count), [&](long t) {
+    const Tet& tet = tets[static_cast<std::size_t>(t)];
     const TetEdges e(points[tet[0]], points[tet[1]], points[tet[2]], points[tet[3]]);
     const double det = e.det();
     if (signed_volume) signed_volume[t] = det / 6.0;
@@ -202,7 +202,7 @@ void compute_tet_quality(const std::vector<Vec3>& points, const std::vector<Tet>
       if (min_dihedral) min_dihedral[t] = range.min;
       if (max_dihedral) max_dihedral[t] = range.max;
     }
-  }
+  });
 }
 
 }  // namespace femorph

@@ -66,8 +66,8 @@ int scaled_jacobian_corners(CellKind kind, const Vec3* points, double* corners);
 /// element's shape quality in the thesis; -1 <= Q <= 1).
 double min_scaled_jacobian(CellKind kind, const Vec3* points);
 
-/// Quality of every tet of a mesh in one parallel pass (OpenMP, static
-/// schedule), each tet's edge vectors computed once and shared by the measures.
+/// Quality of every tet of a mesh in one parallel pass (common/parallel.h),
+/// each tet's edge vectors computed once and shared by the measures.
 /// Inputs:
 ///   points  #V positions
 ///   tets    #T tets, 0-based ids into points (not checked)

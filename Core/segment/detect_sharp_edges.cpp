@@ -1,4 +1,5 @@
 #include "segment/detect_sharp_edges.h"
+#include "common/parallel.h"
 
 #include <cmath>
 
@@ -13,22 +14,26 @@ SharpEdges detect_sharp_edges(const SurfaceMesh& surface, double angle) {
   out.edge.assign(static_cast<std::size_t>(nf) * 3, 0);
   out.vertex_degree.assign(surface.points.size(), 0);
 
-#pragma omp parallel for schedule(static) if(nf >= kParallelMinItems)
-  for (index_t f = 0; f < nf; ++f) {
-    const Vec3& n = surface.normals[f];
-    const bool degenerate = n.squaredNorm() == 0;
-    for (int k = 0; k < 3; ++k) {
-      const index_t g = surface.neighbors[f][k];
-      char sharp;
-      if (g < 0) {
-        sharp = 1;  // open edge
-      } else {
-        const Vec3& m = surface.normals[g];
-        sharp = !degenerate && m.squaredNorm() != 0 && n.dot(m) < cos_angle;
-      }
-      out.edge[3 * static_cast<std::size_t>(f) + k] = sharp;
-    }
-  }
+  parallel_for_chunks(
+      static_cast<long>(nf),
+      [&](long begin, long end, int) {
+        for (index_t f = static_cast<index_t>(begin); f < static_cast<index_t>(end); ++f) {
+          const Vec3& n = surface.normals[f];
+          const bool degenerate = n.squaredNorm() == 0;
+          for (int k = 0; k < 3; ++k) {
+            const index_t g = surface.neighbors[f][k];
+            char sharp;
+            if (g < 0) {
+              sharp = 1;  // open edge
+            } else {
+              const Vec3& m = surface.normals[g];
+              sharp = !degenerate && m.squaredNorm() != 0 && n.dot(m) < cos_angle;
+            }
+            out.edge[3 * static_cast<std::size_t>(f) + k] = sharp;
+          }
+        }
+      },
+      kParallelMinItems);
 
   // Each edge once: from its lower triangle (or its only one).
   for (index_t f = 0; f < nf; ++f)

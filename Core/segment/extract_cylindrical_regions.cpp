@@ -2,6 +2,7 @@
 // minimum-curvature directions agree (Fig. 2.8 (b)), the Gaussian sphere fit
 // of Fig. 2.9, and the check that rejects cones.
 #include "segment/segmentation_state.h"
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -29,18 +30,22 @@ std::vector<std::vector<index_t>> direction_seed_regions(const State& st, double
   const double cos_angle = std::cos(angle);
   const double max_variance = 2.0 * (1.0 - cos_angle);
   std::vector<char> seed(static_cast<std::size_t>(s.num_triangles()), 0);
-#pragma omp parallel for schedule(static) if(s.num_triangles() >= kParallelMinItems)
-  for (index_t f = 0; f < s.num_triangles(); ++f) {
-    if (st.triangle_region[f] >= 0 || !curved(st, f)) continue;
-    Vec3 dirs[4];
-    int n = 0;
-    dirs[n++] = c.triangle_dir_min[f];
-    for (int k = 0; k < 3; ++k) {
-      const index_t g = s.neighbors[f][k];
-      if (g >= 0 && c.triangle_valid[g]) dirs[n++] = c.triangle_dir_min[g];
-    }
-    seed[f] = n >= 3 && vector_variance(dirs, n, true) <= max_variance;
-  }
+  parallel_for_chunks(
+      static_cast<long>(s.num_triangles()),
+      [&](long begin, long end, int) {
+        for (index_t f = static_cast<index_t>(begin); f < static_cast<index_t>(end); ++f) {
+          if (st.triangle_region[f] >= 0 || !curved(st, f)) continue;
+          Vec3 dirs[4];
+          int n = 0;
+          dirs[n++] = c.triangle_dir_min[f];
+          for (int k = 0; k < 3; ++k) {
+            const index_t g = s.neighbors[f][k];
+            if (g >= 0 && c.triangle_valid[g]) dirs[n++] = c.triangle_dir_min[g];
+          }
+          seed[f] = n >= 3 && vector_variance(dirs, n, true) <= max_variance;
+        }
+      },
+      kParallelMinItems);
   // Grow seed regions over neighbours with agreeing directions and the same
   // sign of the maximum curvature.
   std::vector<std::vector<index_t>> regions;

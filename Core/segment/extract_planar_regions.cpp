@@ -1,6 +1,7 @@
 // Planar region extraction, thesis 2.4.3 (A13), the first of the sequential
 // extractions of Fig. 2.7.
 #include "segment/segmentation_state.h"
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -50,16 +51,18 @@ void extract_planar_regions(State& st) {
   // normals within the plane angle tolerance.
   const double max_variance = 2.0 * (1.0 - std::cos(degrees_to_radians(st.params.plane_angle_tolerance_deg)));
   std::vector<char> planar_vertex(static_cast<std::size_t>(s.num_points()), 0);
-  std::vector<Vec3> ring;
-#pragma omp parallel for schedule(static) private(ring) if(s.num_points() >= kParallelMinItems)
-  for (index_t v = 0; v < s.num_points(); ++v) {
-    ring.clear();
-    for (index_t i = s.vertex_offsets[v]; i < s.vertex_offsets[v + 1]; ++i) {
-      const Vec3& n = s.normals[s.vertex_triangles[i]];
-      if (n.squaredNorm() > 0) ring.push_back(n);
+  parallel_for_chunks(s.num_points(), [&](long begin, long end, int) {
+    std::vector<Vec3> ring;
+    for (index_t v = static_cast<index_t>(begin); v < static_cast<index_t>(end); ++v) {
+      ring.clear();
+      for (index_t i = s.vertex_offsets[v]; i < s.vertex_offsets[v + 1]; ++i) {
+        const Vec3& n = s.normals[s.vertex_triangles[i]];
+        if (n.squaredNorm() > 0) ring.push_back(n);
+      }
+      planar_vertex[v] =
+          !ring.empty() && vector_variance(ring.data(), static_cast<int>(ring.size()), false) <= max_variance;
     }
-    planar_vertex[v] = !ring.empty() && vector_variance(ring.data(), static_cast<int>(ring.size()), false) <= max_variance;
-  }
+  });
   // Seed triangles have two or more planar vertices; seed regions are their
   // connected components.
   auto is_seed = [&](index_t f) {

@@ -1,4 +1,5 @@
 #include "segment/normal_tensor_curvature.h"
+#include "common/parallel.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -155,54 +156,55 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   std::vector<char> evaluated(np, 0);
 
   // Steps 1-2: normal tensor, e1, refined normal.
-#pragma omp parallel if(np >= kParallelMinHeavyItems)
-  {
-    std::vector<index_t> ring;
-    ring.reserve(64);
-#pragma omp for schedule(dynamic, 256)
-    for (index_t i = 0; i < np; ++i) {
-      Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
-      Vec3 mean_normal = Vec3::Zero();
-      for (index_t q = surface.vertex_offsets[i]; q < surface.vertex_offsets[i + 1]; ++q) {
-        const index_t f = surface.vertex_triangles[q];
-        const Vec3& n = surface.normals[f];
-        tensor.noalias() += n * n.transpose();  // Eq. 2.1
-        mean_normal += surface.areas[f] * n;
-      }
-      if (mean_normal.squaredNorm() == 0) continue;  // no triangle with a normal
-      mean_normal.normalize();
-      c.vertex_normal[i] = mean_normal;  // what unevaluated vertices keep
-      if (sharp.vertex_degree[i] != 0) continue;  // not evaluated (thesis 2.4.2)
+  parallel_for_chunks(
+      np,
+      [&](long begin, long end, int) {
+        std::vector<index_t> ring;
+        ring.reserve(64);
+        for (index_t i = static_cast<index_t>(begin); i < static_cast<index_t>(end); ++i) {
+          Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+          Vec3 mean_normal = Vec3::Zero();
+          for (index_t q = surface.vertex_offsets[i]; q < surface.vertex_offsets[i + 1]; ++q) {
+            const index_t f = surface.vertex_triangles[q];
+            const Vec3& n = surface.normals[f];
+            tensor.noalias() += n * n.transpose();  // Eq. 2.1
+            mean_normal += surface.areas[f] * n;
+          }
+          if (mean_normal.squaredNorm() == 0) continue;  // no triangle with a normal
+          mean_normal.normalize();
+          c.vertex_normal[i] = mean_normal;           // what unevaluated vertices keep
+          if (sharp.vertex_degree[i] != 0) continue;  // not evaluated (thesis 2.4.2)
 
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-      eig.computeDirect(tensor);
-      Vec3 e1 = eig.eigenvectors().col(2);  // eigenvalues ascending
-      if (e1.dot(mean_normal) < 0) e1 = -e1;
-      const Vec3 f1 = tangent_towards(e1, eig.eigenvectors().col(1));  // e2
-      const Vec3 f2 = e1.cross(f1);
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+          eig.computeDirect(tensor);
+          Vec3 e1 = eig.eigenvectors().col(2);  // eigenvalues ascending
+          if (e1.dot(mean_normal) < 0) e1 = -e1;
+          const Vec3 f1 = tangent_towards(e1, eig.eigenvectors().col(1));  // e2
+          const Vec3 f2 = e1.cross(f1);
 
-      ring.clear();
-      for_each_neighbour(surface, i, [&](index_t j) { ring.push_back(j); });
-      const bool two_ring = ring.size() < kMinOneRing;
-      if (two_ring) {
-        // Grown only through vertices off sharp edges: it stays on i's surface.
-        const std::size_t one_ring = ring.size();
-        for (std::size_t q = 0; q < one_ring; ++q) {
-          if (sharp.vertex_degree[ring[q]] != 0) continue;
-          for_each_neighbour(surface, ring[q], [&](index_t k) {
-            if (k != i && std::find(ring.begin(), ring.end(), k) == ring.end()) ring.push_back(k);
-          });
+          ring.clear();
+          for_each_neighbour(surface, i, [&](index_t j) { ring.push_back(j); });
+          const bool two_ring = ring.size() < kMinOneRing;
+          if (two_ring) {
+            // Grown only through vertices off sharp edges: it stays on i's surface.
+            const std::size_t one_ring = ring.size();
+            for (std::size_t q = 0; q < one_ring; ++q) {
+              if (sharp.vertex_degree[ring[q]] != 0) continue;
+              for_each_neighbour(surface, ring[q], [&](index_t k) {
+                if (k != i && std::find(ring.begin(), ring.end(), k) == ring.end()) ring.push_back(k);
+              });
+            }
+          }
+          double p = 0, q = 0;
+          bool fitted = false;
+          if (two_ring && ring.size() >= kMinCubicPoints) fitted = fit_slopes<9>(x, ring, x[i], f1, f2, e1, p, q);
+          if (!fitted && ring.size() >= 5) fitted = fit_slopes<5>(x, ring, x[i], f1, f2, e1, p, q);
+          c.vertex_normal[i] = fitted ? Vec3((e1 - p * f1 - q * f2).normalized()) : e1;
+          frame_e2[i] = f1;
+          evaluated[i] = 1;
         }
-      }
-      double p = 0, q = 0;
-      bool fitted = false;
-      if (two_ring && ring.size() >= kMinCubicPoints) fitted = fit_slopes<9>(x, ring, x[i], f1, f2, e1, p, q);
-      if (!fitted && ring.size() >= 5) fitted = fit_slopes<5>(x, ring, x[i], f1, f2, e1, p, q);
-      c.vertex_normal[i] = fitted ? Vec3((e1 - p * f1 - q * f2).normalized()) : e1;
-      frame_e2[i] = f1;
-      evaluated[i] = 1;
-    }
-  }
+      },
+      kParallelMinHeavyItems, 256);
 
   // Steps 3-4: Eqs. 2.2-2.3 in the tangent frame of the refined normal.
   // Unknowns (a, b, c, D, E, F, G): S = [a b; b c] and
@@ -211,70 +213,74 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   //   r = S g + grad C(g)                   (unless j is on a sharp edge)
   //   -z / |g| = (g^T S g / 2 + C(g)) / |g|  (divided by |g| to weigh like r)
   // Lengths scaled by the 1-ring's mean edge length.
-#pragma omp parallel for schedule(dynamic, 256) if(np >= kParallelMinHeavyItems)
-  for (index_t i = 0; i < np; ++i) {
-    if (!evaluated[i]) continue;
-    const Vec3& n = c.vertex_normal[i];
-    const Vec3 t1 = tangent_towards(n, frame_e2[i]), t2 = n.cross(t1);
-    double length_sum = 0;
-    int count = 0;
-    for_each_neighbour(surface, i, [&](index_t j) {
-      length_sum += (x[j] - x[i]).norm();
-      ++count;
-    });
-    if (!(length_sum > 0)) continue;
-    const double scale = count / length_sum;
-    Mat<7> m = Mat<7>::Zero();
-    Vec<7> rhs = Vec<7>::Zero();
-    Vec<7> row;
-    for_each_neighbour(surface, i, [&](index_t j) {
-      const Vec3 d = (x[j] - x[i]) * scale;
-      const double u = d.dot(t1), w = d.dot(t2), z = d.dot(n);
-      const double rho = std::sqrt(u * u + w * w);
-      if (rho == 0) return;
-      row << 0.5 * u * u, u * w, 0.5 * w * w, u * u * u / 6, 0.5 * u * u * w, 0.5 * u * w * w, w * w * w / 6;
-      row /= rho;
-      add_outer_lower(m, row);
-      rhs -= (z / rho) * row;
-      if (!evaluated[j]) return;
-      const Vec3 ro = c.vertex_normal[j] - n;  // a_Ro
-      const double r1 = ro.dot(t1), r2 = ro.dot(t2);
-      row << u, w, 0, 0.5 * u * u, u * w, 0.5 * w * w, 0;
-      add_outer_lower(m, row);
-      rhs += r1 * row;
-      row << 0, u, w, 0, 0.5 * u * u, u * w, 0.5 * w * w;
-      add_outer_lower(m, row);
-      rhs += r2 * row;
-    });
-    Vec3 s;
-    Vec<7> full;
-    if (solve_least_squares<7>(m, rhs, full)) {
-      s = full.head<3>();
-    } else if (!solve_least_squares<3>(m.topLeftCorner<3, 3>(), rhs.head<3>(), s)) {
-      continue;  // tangent offsets collinear: the operator is undetermined
-    }
-    s *= scale;  // back to unscaled lengths
-    const double a = s[0], b = s[1], cc = s[2];
-    // Eigen decomposition of [a b; b cc]: lambda_+ along angle phi.
-    const double mean = 0.5 * (a + cc), radius = std::hypot(0.5 * (a - cc), b);
-    const double phi = 0.5 * std::atan2(2 * b, a - cc);
-    const Vec3 dir_plus = std::cos(phi) * t1 + std::sin(phi) * t2;
-    const double k_plus = mean + radius, k_minus = mean - radius;
-    Vec3 dir_min;
-    if (std::abs(k_plus) >= std::abs(k_minus)) {
-      c.vertex_k_max[i] = k_plus;
-      c.vertex_k_min[i] = k_minus;
-      dir_min = n.cross(dir_plus);
-    } else {
-      c.vertex_k_max[i] = k_minus;
-      c.vertex_k_min[i] = k_plus;
-      dir_min = dir_plus;
-    }
-    dir_min = canonical_sign(dir_min);
-    c.vertex_dir_min[i] = dir_min;
-    c.vertex_dir_max[i] = dir_min.cross(n);  // (dir_max, dir_min, n) right-handed
-    c.vertex_valid[i] = 1;
-  }
+  parallel_for_chunks(
+      static_cast<long>(np),
+      [&](long begin, long end, int) {
+        for (index_t i = static_cast<index_t>(begin); i < static_cast<index_t>(end); ++i) {
+          if (!evaluated[i]) continue;
+          const Vec3& n = c.vertex_normal[i];
+          const Vec3 t1 = tangent_towards(n, frame_e2[i]), t2 = n.cross(t1);
+          double length_sum = 0;
+          int count = 0;
+          for_each_neighbour(surface, i, [&](index_t j) {
+            length_sum += (x[j] - x[i]).norm();
+            ++count;
+          });
+          if (!(length_sum > 0)) continue;
+          const double scale = count / length_sum;
+          Mat<7> m = Mat<7>::Zero();
+          Vec<7> rhs = Vec<7>::Zero();
+          Vec<7> row;
+          for_each_neighbour(surface, i, [&](index_t j) {
+            const Vec3 d = (x[j] - x[i]) * scale;
+            const double u = d.dot(t1), w = d.dot(t2), z = d.dot(n);
+            const double rho = std::sqrt(u * u + w * w);
+            if (rho == 0) return;
+            row << 0.5 * u * u, u * w, 0.5 * w * w, u * u * u / 6, 0.5 * u * u * w, 0.5 * u * w * w, w * w * w / 6;
+            row /= rho;
+            add_outer_lower(m, row);
+            rhs -= (z / rho) * row;
+            if (!evaluated[j]) return;
+            const Vec3 ro = c.vertex_normal[j] - n;  // a_Ro
+            const double r1 = ro.dot(t1), r2 = ro.dot(t2);
+            row << u, w, 0, 0.5 * u * u, u * w, 0.5 * w * w, 0;
+            add_outer_lower(m, row);
+            rhs += r1 * row;
+            row << 0, u, w, 0, 0.5 * u * u, u * w, 0.5 * w * w;
+            add_outer_lower(m, row);
+            rhs += r2 * row;
+          });
+          Vec3 s;
+          Vec<7> full;
+          if (solve_least_squares<7>(m, rhs, full)) {
+            s = full.head<3>();
+          } else if (!solve_least_squares<3>(m.topLeftCorner<3, 3>(), rhs.head<3>(), s)) {
+            continue;  // tangent offsets collinear: the operator is undetermined
+          }
+          s *= scale;  // back to unscaled lengths
+          const double a = s[0], b = s[1], cc = s[2];
+          // Eigen decomposition of [a b; b cc]: lambda_+ along angle phi.
+          const double mean = 0.5 * (a + cc), radius = std::hypot(0.5 * (a - cc), b);
+          const double phi = 0.5 * std::atan2(2 * b, a - cc);
+          const Vec3 dir_plus = std::cos(phi) * t1 + std::sin(phi) * t2;
+          const double k_plus = mean + radius, k_minus = mean - radius;
+          Vec3 dir_min;
+          if (std::abs(k_plus) >= std::abs(k_minus)) {
+            c.vertex_k_max[i] = k_plus;
+            c.vertex_k_min[i] = k_minus;
+            dir_min = n.cross(dir_plus);
+          } else {
+            c.vertex_k_max[i] = k_minus;
+            c.vertex_k_min[i] = k_plus;
+            dir_min = dir_plus;
+          }
+          dir_min = canonical_sign(dir_min);
+          c.vertex_dir_min[i] = dir_min;
+          c.vertex_dir_max[i] = dir_min.cross(n);  // (dir_max, dir_min, n) right-handed
+          c.vertex_valid[i] = 1;
+        }
+      },
+      kParallelMinHeavyItems, 256);
 
   // Per triangle: mean over the valid vertices, directions aligned with the
   // first valid vertex's.
@@ -283,28 +289,32 @@ Curvature normal_tensor_curvature(const SurfaceMesh& surface, const SharpEdges& 
   c.triangle_k_min.assign(nf, 0.0);
   c.triangle_dir_max.assign(nf, Vec3::Zero());
   c.triangle_dir_min.assign(nf, Vec3::Zero());
-#pragma omp parallel for schedule(static) if(nf >= kParallelMinItems)
-  for (index_t f = 0; f < nf; ++f) {
-    int count = 0;
-    double k_max = 0, k_min = 0;
-    Vec3 dir_max = Vec3::Zero(), dir_min = Vec3::Zero();
-    for (index_t v : surface.triangles[f]) {
-      if (!c.vertex_valid[v]) continue;
-      k_max += c.vertex_k_max[v];
-      k_min += c.vertex_k_min[v];
-      const Vec3& dmax = c.vertex_dir_max[v];
-      const Vec3& dmin = c.vertex_dir_min[v];
-      dir_max += count && dmax.dot(dir_max) < 0 ? Vec3(-dmax) : dmax;
-      dir_min += count && dmin.dot(dir_min) < 0 ? Vec3(-dmin) : dmin;
-      ++count;
-    }
-    if (!count) continue;
-    c.triangle_valid[f] = 1;
-    c.triangle_k_max[f] = k_max / count;
-    c.triangle_k_min[f] = k_min / count;
-    if (dir_max.squaredNorm() > 0) c.triangle_dir_max[f] = canonical_sign(dir_max.normalized());
-    if (dir_min.squaredNorm() > 0) c.triangle_dir_min[f] = canonical_sign(dir_min.normalized());
-  }
+  parallel_for_chunks(
+      static_cast<long>(nf),
+      [&](long begin, long end, int) {
+        for (index_t f = static_cast<index_t>(begin); f < static_cast<index_t>(end); ++f) {
+          int count = 0;
+          double k_max = 0, k_min = 0;
+          Vec3 dir_max = Vec3::Zero(), dir_min = Vec3::Zero();
+          for (index_t v : surface.triangles[f]) {
+            if (!c.vertex_valid[v]) continue;
+            k_max += c.vertex_k_max[v];
+            k_min += c.vertex_k_min[v];
+            const Vec3& dmax = c.vertex_dir_max[v];
+            const Vec3& dmin = c.vertex_dir_min[v];
+            dir_max += count && dmax.dot(dir_max) < 0 ? Vec3(-dmax) : dmax;
+            dir_min += count && dmin.dot(dir_min) < 0 ? Vec3(-dmin) : dmin;
+            ++count;
+          }
+          if (!count) continue;
+          c.triangle_valid[f] = 1;
+          c.triangle_k_max[f] = k_max / count;
+          c.triangle_k_min[f] = k_min / count;
+          if (dir_max.squaredNorm() > 0) c.triangle_dir_max[f] = canonical_sign(dir_max.normalized());
+          if (dir_min.squaredNorm() > 0) c.triangle_dir_min[f] = canonical_sign(dir_min.normalized());
+        }
+      },
+      kParallelMinItems);
   return c;
 }
 

@@ -8,11 +8,10 @@
 //
 // Prints medians of the runs (wall time, 2 threads unless OMP_NUM_THREADS),
 // candidates and cells per type, hex volume ratio, minimum scaled Jacobian.
+#include "common/parallel.h"
 #include "hex/tet_to_hex.h"
 #include "quality/tet_quality.h"
 #include "test_meshes.h"
-
-#include <omp.h>
 
 #include <algorithm>
 #include <array>
@@ -146,7 +145,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  std::printf("FEMorph Tet To Hex benchmark: %d threads, medians of %d runs\n\n", omp_get_max_threads(), runs);
+  std::printf("FEMorph Tet To Hex benchmark: %d threads, medians of %d runs\n\n", femorph::parallel_threads(), runs);
 
   // 1. The large grid: the goal is <= 10 s for about 1M tets.
   const testing::TestMesh big = testing::make_cube_mesh(cells, jitter, 7);

@@ -8,8 +8,8 @@
 #   --build DIR  the CMake build folder (default: build/ in the repository);
 #                the programs are DIR/bin/bench_*.
 #   NAME         bench_tet_mesh, bench_segment, bench_improve,
-#                bench_tet_to_hex, bench_deform or bench_adapt (default: all six, in that
-#                order);
+#                bench_tet_to_hex, bench_deform, bench_adapt or bench_threads (default:
+#                all seven, in that order);
 #                NAME:ARGS passes ARGS, e.g. "bench_improve:--runs=5".
 #
 # RESULTS.md keeps one section per program between marker comments; a run
@@ -24,7 +24,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
 build="$repo/build"
 results="$here/RESULTS.md"
-all=(bench_tet_mesh bench_segment bench_improve bench_tet_to_hex bench_deform bench_adapt)
+all=(bench_tet_mesh bench_segment bench_improve bench_tet_to_hex bench_deform bench_adapt bench_threads)
 
 runs=()
 while [[ $# -gt 0 ]]; do
@@ -46,6 +46,7 @@ describe() {
     bench_improve) echo "FEMorph Improve: case (b), boss_block at about 528,000 tets with its boss stretched x1.6 and x3, the phased loop and Poor Elements Only against TetGen's and Gmsh's optimizers; then a uniform BCC reference stretched x3. The first run makes the 528k-tet part with Gmsh." ;;
     bench_tet_to_hex) echo "FEMorph Tet To Hex: a jittered grid of about 1M tets, the quad-angle sweep of thesis Table 4.3, and Gmsh's 3D recombination as the peer." ;;
     bench_adapt) echo "FEMorph Adapt's core (thesis chapter 3): the case of thesis 3.7.2 (a 3x5x1-cube object in 20x20x50 cubes of 12 tets, 240,000 tets; 0.1 along z and 1 degree about x per step, 360 steps) and 900 steps of rotation in place, against Gmsh re-meshing the exact geometry of 10 sampled steps (adapt_gmsh_peer.py); and the contact case of thesis 3.7.3 (a cylinder translated 1 per step along its axis into a half tube of the same radius, about 163,000 tets, 45 steps, contact area checked every step) against Gmsh re-meshing its exact geometry at 3 steps." ;;
+    bench_threads) echo "Parallel loops on a busy machine: Improve's core (phased_odt on a BCC box stretched x3) and the mesh build with validity and quality passes, each with the default thread count and with one thread, idle and with one core kept busy by a spinning child process the program starts and stops (rule: busy, no case more than 10% slower than one thread)." ;;
     bench_deform) echo "FEMorph Deform's core (thesis 2.5): boss_block's boss height 15 -> 20; parameterisation of the whole part (about 110,000 vertices) and of a local region of about 5,000 inner unknowns, repositioning for a new target, and deform + improve at about 700,000 tets against Gmsh re-meshing the changed CAD (gmsh_remesh_peer.py); peak memory per tet. The first run makes the two parts with Gmsh (build/bench-data/deform/, minutes)." ;;
   esac
 }
@@ -118,7 +119,7 @@ The latest figures of FEMorph's benchmark programs (Testing/Benchmarks/bench_*.c
 printed them. This file is written by the benchmark command; do not edit the sections by hand:
 
 ```sh
-bash Testing/Benchmarks/run_benchmarks.sh --build build                 # all six
+bash Testing/Benchmarks/run_benchmarks.sh --build build                 # all seven
 bash Testing/Benchmarks/run_benchmarks.sh --build build bench_tet_mesh  # one, the others kept
 ```
 

@@ -17,8 +17,6 @@
 
 #include <gtest/gtest.h>
 
-#include <omp.h>
-
 #include <atomic>
 #include <cmath>
 #include <algorithm>
@@ -819,7 +817,7 @@ TEST(MeshDensity, ProjectionInParallelGivesTheSameMesh) {
   for (const bool parallel : {false, true}) {
     DensityControlOptions options;
     options.project = [&](index_t, const Vec3& p) {
-      if (omp_in_parallel()) ++in_parallel[parallel];
+      if (femorph::in_parallel()) ++in_parallel[parallel];
       return Vec3(p + 0.01 * (p - 0.5 * box).normalized());
     };
     options.project_in_parallel = parallel;
