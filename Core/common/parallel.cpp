@@ -3,6 +3,7 @@
 #include "common/parallel.h"
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdlib>
@@ -55,16 +56,20 @@ class Pool {
   void set_threads(int n) {
     std::lock_guard<std::mutex> config(config_mutex_);
     resize(0);
+    serial_until_ = {};
+    backoff_ = Clock::duration::zero();
     std::lock_guard<std::mutex> lock(mutex_);
     threads_ = n > 0 ? n : default_threads();
   }
 
-  /// False when another thread's loop holds the pool.
+  /// False when another thread's loop holds the pool, or while it backs off.
   bool run(long num_chunks, detail::ChunkBody body) {
     std::unique_lock<std::mutex> config(config_mutex_, std::try_to_lock);
     if (!config.owns_lock()) return false;
     const int n = threads();
     if (n <= 1) return false;
+    const Clock::time_point start = Clock::now();
+    if (start < serial_until_) return false;
     if (static_cast<int>(workers_.size()) != n - 1) resize(n - 1);
     Job job;
     job.body = body;
@@ -76,17 +81,39 @@ class Pool {
     }
     wake_.notify_all();
     work(job, 0);
+    const Clock::time_point own_done = Clock::now();
     {
       // Late threads no longer join; wait for those inside to finish.
       std::unique_lock<std::mutex> lock(mutex_);
       job_ = nullptr;
       done_.wait(lock, [&] { return job.participants == 0; });
     }
+    back_off(start, own_done, Clock::now());
     if (job.error) std::rethrow_exception(job.error);
     return true;
   }
 
  private:
+  using Clock = std::chrono::steady_clock;
+
+  /// A pool thread on a core taken by another process can be descheduled in
+  /// the middle of a chunk, and the caller then waits a whole time slice for
+  /// it. When the caller waited longer than half its own share of the loop
+  /// (and over 0.2 ms), loops run serially for a while, twice as long after
+  /// each such loop in a row (1 ms to 0.25 s); a loop without that wait ends
+  /// the back-off. So a busy core costs at most a probe per interval.
+  void back_off(Clock::time_point start, Clock::time_point own_done, Clock::time_point end) {
+    const auto waited = end - own_done, own = own_done - start;
+    if (waited > std::chrono::microseconds(200) && waited * 2 > own) {
+      backoff_ = std::min<Clock::duration>(std::chrono::milliseconds(250),
+                                           backoff_ == Clock::duration::zero() ? std::chrono::milliseconds(1)
+                                                                               : 2 * backoff_);
+      serial_until_ = end + backoff_;
+    } else {
+      backoff_ = Clock::duration::zero();
+    }
+  }
+
   /// Chunks of `job` until none is left, as thread `worker`.
   void work(Job& job, int worker) {
     const bool was_in = t_in_parallel;
@@ -148,6 +175,8 @@ class Pool {
   std::uint64_t generation_ = 0;
   bool stop_ = false;
   int threads_ = 0;
+  Clock::time_point serial_until_{};          // under config_mutex_
+  Clock::duration backoff_ = Clock::duration::zero();
 };
 
 Pool& pool() {

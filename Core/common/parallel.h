@@ -5,6 +5,8 @@
 // threads take chunks from an atomic counter, so a thread on a loaded core
 // simply takes fewer. The caller starts on its chunks at once and waits
 // (blocked, not spinning) only for the chunks other threads have taken.
+// When that wait shows a pool thread was held up (its core taken by another
+// process), the next loops run on the caller alone for a while (back-off).
 // Results are made deterministic by the callers: per-item outputs, or
 // per-chunk results combined in chunk order (parallel_reduce).
 //

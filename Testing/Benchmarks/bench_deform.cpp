@@ -31,6 +31,7 @@
 #include "vtkFEMorphMeshConversion.h"
 #include "vtkFEMorphSegmentationArrays.h"
 
+#include "common/parallel.h"
 #include "deform/deform.h"
 #include "mesh/surface_mesh.h"
 #include "mesh/tet_mesh.h"
@@ -45,7 +46,6 @@
 #include VTK_NLOHMANN_JSON(json.hpp)
 
 #include <malloc.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -251,7 +251,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  const int threads = omp_get_max_threads();
+  const int threads = femorph::parallel_threads();
   std::printf("FEMorph Deform benchmark: boss_block, boss height 15 -> 20 (Distance on the boss top), %d threads, "
               "medians of %d runs (deform + improve: %d)\n",
               threads, runs, deform_runs);

@@ -44,6 +44,7 @@
 #include "vtkFEMorphImprove.h"
 #include "vtkFEMorphSegment.h"
 
+#include "common/parallel.h"
 #include "geometry/discrete_surface.h"
 #include "improve/mesh_density.h"
 #include "quality/check_validity.h"
@@ -64,7 +65,6 @@
 #include "vtk_nlohmannjson.h"
 #include VTK_NLOHMANN_JSON(json.hpp)
 
-#include <omp.h>
 
 #include <algorithm>
 #include <array>
@@ -210,10 +210,15 @@ double max_distance(const Mesh& from, const std::vector<std::array<femorph::inde
     for (const auto v : f) on[static_cast<std::size_t>(v)] = 1;
   double worst = 0;
   const long n = static_cast<long>(from.points.size());
-#pragma omp parallel for schedule(dynamic, 1024) reduction(max : worst)
-  for (long v = 0; v < n; ++v)
-    if (on[static_cast<std::size_t>(v)]) worst = std::max(worst, to.distance(from.points[static_cast<std::size_t>(v)]));
-  return worst;
+  return femorph::parallel_reduce(
+      n, worst,
+      [&](long begin, long end, int) {
+        double w = 0;
+        for (long v = begin; v < end; ++v)
+          if (on[static_cast<std::size_t>(v)]) w = std::max(w, to.distance(from.points[static_cast<std::size_t>(v)]));
+        return w;
+      },
+      [](double a, double b) { return std::max(a, b); }, 0, 1024);
 }
 
 /// The input (the stretched mesh) as the peers' outputs are compared with.
@@ -570,7 +575,7 @@ int main(int argc, char** argv) {
   }
 
   std::printf("FEMorph Improve benchmark: %d threads, %s (%zu tets), FEMorph medians of %d runs, peers %d run%s\n",
-              omp_get_max_threads(), part.c_str(), undeformed.tets.size(), runs, peer_runs, peer_runs > 1 ? "s" : "");
+              femorph::parallel_threads(), part.c_str(), undeformed.tets.size(), runs, peer_runs, peer_runs > 1 ? "s" : "");
   const InputBoundary own(undeformed);
   const Measures und = measure(undeformed, own);
   std::printf("undeformed: min stretch %.3f, mean %.3f, min dihedral %.2f deg\n", und.min_stretch, und.mean_stretch,

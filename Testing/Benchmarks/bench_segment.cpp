@@ -11,6 +11,7 @@
 // (default: build/bench-data) the first time and reused afterwards.
 #include "vtkFEMorphMeshConversion.h"
 
+#include "common/parallel.h"
 #include "geometry/surface_primitive.h"
 #include "mesh/surface_mesh.h"
 #include "segment/segmentation.h"
@@ -27,7 +28,6 @@
 #include "cgal_shape_detection.h"
 #endif
 
-#include <omp.h>
 
 #include <algorithm>
 #include <array>
@@ -275,7 +275,7 @@ int main(int argc, char** argv) {
     if (std::filesystem::exists(vtu)) parts.emplace_back("boss_block_fine", vtu);
   }
 
-  std::printf("FEMorph Segment benchmark: %d threads, medians of %d runs (CGAL: of up to 3)\n", omp_get_max_threads(),
+  std::printf("FEMorph Segment benchmark: %d threads, medians of %d runs (CGAL: of up to 3)\n", femorph::parallel_threads(),
               repeats);
   std::vector<Row> rows;
   for (const auto& [name, vtu] : parts) {

@@ -4,21 +4,30 @@
 // The project's rule: with a busy core no case may be more than 10% slower
 // than its one-thread run; idle, the default count keeps its parallel speed.
 //
-//   build/bin/bench_threads [--runs=5] [--bcc=16] [--cells=40]
+//   build/bin/bench_threads [--runs=5] [--bcc=16] [--cells=40] [--deform-cells=16] [--adapt-steps=4] [--only=TEXT]
 //
-// Cases: Improve's core (phased_odt on a BCC box stretched x3 in z, with the
-// box's own density as target) and the mesh build with a validity check and
-// a quality pass (jittered cube). Runs are interleaved (idle 1, idle default,
+// Cases, one per filter's core: Improve (phased_odt on a BCC box stretched x3
+// in z, with the box's own density as target), Mesh Quality (the mesh build
+// with a validity check and a quality pass, jittered cube), Segment and Tet
+// To Hex (shared/realparts' fandisk), Deform (a face of a jittered cube moved,
+// with Improve) and Adapt (steps of a block rotating in a box). Runs are interleaved (idle 1, idle default,
 // busy 1, busy default) so that other load on the machine touches all four;
 // the table gives medians and checks that the output does not depend on the
 // thread count.
+#include "adapt/adapt.h"
 #include "common/parallel.h"
+#include "deform/deform.h"
+#include "hex/tet_to_hex.h"
 #include "improve/boundary_geometry.h"
 #include "improve/mesh_density.h"
 #include "improve/phased_odt.h"
+#include "io/read_medit_mesh.h"
+#include "mesh/surface_mesh.h"
 #include "mesh/tet_mesh.h"
 #include "quality/check_validity.h"
 #include "quality/tet_quality.h"
+#include "segment/segmentation.h"
+#include "test_adapt_meshes.h"
 #include "test_meshes.h"
 #include "test_surfaces.h"
 
@@ -138,17 +147,114 @@ Case mesh_case(int cells) {
           }};
 }
 
+
+/// A Medit mesh of shared/realparts; empty (the case is skipped) when absent.
+MeditMesh real_part(const char* name) {
+  MeditMesh medit;
+  const std::string path = std::string(FEMORPH_REALPARTS_DIR) + "/" + name;
+  if (!read_medit_mesh(path, medit)) {
+    std::printf("(%s not readable: its cases are skipped)\n", path.c_str());
+    medit = {};
+  }
+  for (Tet& t : medit.tets)  // positively oriented, as recombine_tetrahedra wants
+    if (tet_signed_volume(medit.points[t[0]], medit.points[t[1]], medit.points[t[2]], medit.points[t[3]]) < 0)
+      std::swap(t[2], t[3]);
+  return medit;
+}
+
+Case segment_case(const MeditMesh& part) {
+  char name[96];
+  std::snprintf(name, sizeof name, "Segment: segment_boundary, fandisk (%zu tets)", part.tets.size());
+  return {name, [part]() {
+            TetMesh mesh;
+            mesh.build(part.points, part.tets);
+            SurfaceMesh surface;
+            Segmentation seg;
+            segment_boundary(mesh, SegmentationParams{}, surface, seg);
+            std::uint64_t h = seg.regions.size();
+            for (const index_t r : seg.triangle_region) h = (h ^ static_cast<std::uint64_t>(r)) * 1099511628211ull;
+            return h;
+          }};
+}
+
+Case tet_to_hex_case(const MeditMesh& part) {
+  char name[96];
+  std::snprintf(name, sizeof name, "Tet To Hex: recombine_tetrahedra, fandisk (%zu tets)", part.tets.size());
+  return {name, [part]() {
+            TetToHexResult result;
+            recombine_tetrahedra(part.points, part.tets, TetToHexParams{}, result);
+            std::uint64_t h = result.cells.size();
+            for (const index_t t : result.source_tets) h = (h ^ static_cast<std::uint64_t>(t)) * 1099511628211ull;
+            return h;
+          }};
+}
+
+Case deform_case(int cells) {
+  const testing::TestMesh cube = testing::make_cube_mesh(cells, 0.1, 11);
+  char name[96];
+  std::snprintf(name, sizeof name, "Deform: deform_mesh + Improve, cube face 1 -> 1.4 (%zu tets)", cube.tets.size());
+  return {name, [cube]() {
+            TetMesh mesh;
+            BuildOptions options;
+            options.face_regions = cube.face_regions;
+            mesh.build(cube.points, cube.tets, options);
+            mesh.classify_vertices();
+            DeformRegions regions;
+            for (int r = 0; r < 6; ++r) {
+              SurfacePrimitive s;
+              s.type = SurfaceType::Plane;
+              s.axis = Vec3::Zero();
+              s.axis[r / 2] = r % 2 ? 1.0 : -1.0;
+              s.point = Vec3::Zero();
+              s.point[r / 2] = r % 2 ? 1.0 : 0.0;
+              regions.surfaces.push_back(s);
+              regions.convexity.push_back(Convexity::NotApplicable);
+            }
+            DeformOptions o;
+            o.control_region = 1;
+            DeformMeshOptions mo;
+            mo.target = 1.4;
+            DeformPlan plan;
+            DeformReport report;
+            deform_mesh(mesh, regions, nullptr, o, mo, plan, report);
+            const CompactMesh out = mesh.compact();
+            return digest(out.points, out.tets);
+          }};
+}
+
+Case adapt_case(int steps) {
+  const testing::MaterialMesh in = testing::make_block_in_box({10, 10, 10}, {3, 2, 1}, 1.0, 0.15, 3);
+  RigidMotion motion;
+  motion.rotation_center = 0.5 * (in.object_lo + in.object_hi);
+  motion.rotation_axis = Vec3(0, 0, 1);
+  motion.rotation_degrees_per_step = 5;
+  char name[96];
+  std::snprintf(name, sizeof name, "Adapt: %d steps of 5 deg, block in box (%zu tets)", steps, in.tets.size());
+  return {name, [in, motion, steps]() {
+            AdaptSession session;
+            std::uint64_t h = session.init(in.points, in.tets, in.material, motion, AdaptOptions{}).ok;
+            for (int n = 0; n < steps; ++n) h = h * 3 + session.advance().ok;
+            const AdaptOutput out = session.output();
+            return h ^ digest(out.points, out.tets);
+          }};
+}
 }  // namespace
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  int runs = 5, bcc = 16, cells = 40;
+  std::string only;  // run only the cases whose name contains it
+  int runs = 5, bcc = 16, cells = 40, deform_cells = 16, adapt_steps = 4;
   for (int i = 1; i < argc; ++i) {
     if (std::strncmp(argv[i], "--runs=", 7) == 0) runs = std::max(1, std::atoi(argv[i] + 7));
     else if (std::strncmp(argv[i], "--bcc=", 6) == 0) bcc = std::max(2, std::atoi(argv[i] + 6));
     else if (std::strncmp(argv[i], "--cells=", 8) == 0) cells = std::max(2, std::atoi(argv[i] + 8));
+    else if (std::strncmp(argv[i], "--deform-cells=", 15) == 0) deform_cells = std::max(3, std::atoi(argv[i] + 15));
+    else if (std::strncmp(argv[i], "--only=", 7) == 0) only = argv[i] + 7;
+    else if (std::strncmp(argv[i], "--adapt-steps=", 14) == 0) adapt_steps = std::max(1, std::atoi(argv[i] + 14));
     else {
-      std::fprintf(stderr, "usage: %s [--runs=5] [--bcc=16] [--cells=40]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--runs=5] [--bcc=16] [--cells=40] [--deform-cells=16] [--adapt-steps=4] "
+                           "[--only=TEXT]\n",
+                   argv[0]);
       return 2;
     }
   }
@@ -156,11 +262,17 @@ int main(int argc, char** argv) {
   const long cores = sysconf(_SC_NPROCESSORS_ONLN);
   std::printf("%ld cores, default thread count %d; busy: one spinning child process; medians of %d runs\n", cores,
               threads, runs);
-  const std::vector<Case> cases = {improve_case(bcc), mesh_case(cells)};
+  std::vector<Case> cases = {improve_case(bcc), mesh_case(cells), deform_case(deform_cells), adapt_case(adapt_steps)};
+  const MeditMesh fandisk = real_part("fandisk_tet.mesh");
+  if (!fandisk.tets.empty()) {
+    cases.push_back(segment_case(fandisk));
+    cases.push_back(tet_to_hex_case(fandisk));
+  }
   std::printf("\n| case | idle, 1 thread | idle, %d threads | busy core, 1 thread | busy core, %d threads "
               "| busy %d / busy 1 | idle %d / idle 1 | same output |\n|---|---|---|---|---|---|---|---|\n",
               threads, threads, threads, threads);
   for (const Case& c : cases) {
+    if (c.name.find(only) == std::string::npos) continue;
     std::vector<double> t[4];
     std::uint64_t first = 0;
     bool same = true, have = false;

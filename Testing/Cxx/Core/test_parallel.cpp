@@ -1,6 +1,6 @@
 // The thread pool of common/parallel.h: every index once, results in chunk
-// order, nested and concurrent loops, exceptions, one thread, and no CPU
-// spent while idle.
+// order, nested and concurrent loops, exceptions, one thread, the back-off
+// from a held-up loop, and no CPU spent while idle.
 #include "common/parallel.h"
 
 #include <gtest/gtest.h>
@@ -171,6 +171,34 @@ TEST(Parallel, LoopsFromSeveralThreadsAtOnce) {
     });
   for (std::thread& c : callers) c.join();
   for (const long s : totals) EXPECT_EQ(s, 50L * (20000L * 19999L / 2));
+}
+
+// A pool thread that holds the caller up (as one descheduled by a busy core
+// would) makes the next loops run on the caller alone for a while.
+TEST(Parallel, ALoopHeldUpByAPoolThreadBacksOffToSerial) {
+  Threads t(2);
+  bool held_up = false;
+  for (int attempt = 0; attempt < 50 && !held_up; ++attempt) {
+    std::atomic<bool> other{false};
+    parallel_for_worker(
+        8,
+        [&](long, int worker) {
+          if (worker != 0) other = true;
+          std::this_thread::sleep_for(std::chrono::microseconds(worker != 0 ? 20000 : 500));
+        },
+        0, 1);
+    held_up = other;
+  }
+  ASSERT_TRUE(held_up) << "no pool thread took a chunk in 50 loops";
+  std::atomic<int> elsewhere{0};
+  parallel_for_worker(
+      8,
+      [&](long, int worker) {
+        elsewhere += worker != 0;
+        std::this_thread::sleep_for(std::chrono::microseconds(100));  // time for a pool thread to join
+      },
+      0, 1);
+  EXPECT_EQ(elsewhere.load(), 0) << "the loop after a held-up one ran on the pool";
 }
 
 TEST(Parallel, IdleThreadsUseNoCpu) {
