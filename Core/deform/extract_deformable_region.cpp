@@ -8,27 +8,130 @@
 // further while it has few inner vertices (2.5.3.4, last paragraph).
 #include "deform/deform.h"
 
+#include "common/parallel.h"
 #include "mesh/tet_mesh.h"
-#include "mesh/unique_edges.h"
 
 #include <algorithm>
 #include <functional>
 #include <limits>
 #include <queue>
+#include <tuple>
 
 namespace femorph {
 
 namespace {
 
-/// Shortest edge-path length from the flagged vertices to every vertex.
-std::vector<double> edge_distance(const TetMesh& mesh, const std::vector<index_t>& offsets,
-                                  const std::vector<index_t>& adjacent, const std::vector<std::uint8_t>& source) {
+/// Vertex adjacency (CSR, neighbours unsorted) from the tets around each
+/// vertex: each vertex's tets gathered by a counting sort, their other
+/// vertices taken once.
+struct VertexNeighbors {
+  std::vector<index_t> offsets, adjacent;
+
+  explicit VertexNeighbors(const TetMesh& mesh) {
+    const index_t nt = mesh.tet_slots(), nv = mesh.vertex_slots();
+    std::vector<index_t> tet_offsets(static_cast<std::size_t>(nv) + 1, 0);
+    for (index_t t = 0; t < nt; ++t) {
+      if (!mesh.tet_alive(t)) continue;
+      for (const index_t v : mesh.tet(t)) ++tet_offsets[v + 1];
+    }
+    for (index_t v = 0; v < nv; ++v) tet_offsets[v + 1] += tet_offsets[v];
+    std::vector<index_t> tets(tet_offsets[nv]), fill(tet_offsets.begin(), tet_offsets.end() - 1);
+    for (index_t t = 0; t < nt; ++t) {
+      if (!mesh.tet_alive(t)) continue;
+      for (const index_t v : mesh.tet(t)) tets[fill[v]++] = t;
+    }
+    // At most 3 neighbours per incident tet: gathered into those slots, then
+    // compacted.
+    std::vector<index_t> slots(3 * static_cast<std::size_t>(tet_offsets[nv])), count(nv, 0);
+    std::vector<std::vector<index_t>> stamp(static_cast<std::size_t>(parallel_threads()));
+    parallel_for_chunks(
+        nv,
+        [&](long begin, long end, int worker) {
+          std::vector<index_t>& seen = stamp[static_cast<std::size_t>(worker)];
+          if (seen.empty()) seen.assign(nv, kInvalidIndex);
+          for (long v = begin; v < end; ++v) {
+            index_t* out = slots.data() + 3 * static_cast<std::size_t>(tet_offsets[v]);
+            index_t n = 0;
+            seen[v] = static_cast<index_t>(v);
+            for (index_t k = tet_offsets[v]; k < tet_offsets[v + 1]; ++k) {
+              for (const index_t u : mesh.tet(tets[k])) {
+                if (seen[u] == v) continue;
+                seen[u] = static_cast<index_t>(v);
+                out[n++] = u;
+              }
+            }
+            count[v] = n;
+          }
+        },
+        4096);
+    offsets.assign(static_cast<std::size_t>(nv) + 1, 0);
+    for (index_t v = 0; v < nv; ++v) offsets[v + 1] = offsets[v] + count[v];
+    adjacent.resize(offsets[nv]);
+    for (index_t v = 0; v < nv; ++v)
+      std::copy_n(slots.data() + 3 * static_cast<std::size_t>(tet_offsets[v]), count[v], adjacent.data() + offsets[v]);
+  }
+
+  /// f(u) for each neighbour u of v.
+  template <class F>
+  void for_each(index_t v, F&& f) const {
+    for (index_t k = offsets[v]; k < offsets[v + 1]; ++k) f(adjacent[k]);
+  }
+};
+
+/// Per vertex, whether its nearest flagged vertex along the edges is a moved
+/// one (strictly nearer than every fixed one): one Dijkstra from both sets,
+/// each vertex taking the label of its nearest source, fixed on a tie. It
+/// stops when no moved-labelled vertex is left to settle: a vertex nearer to
+/// the moved ones is reached through such vertices only.
+std::vector<std::uint8_t> nearer_to_moved(const TetMesh& mesh, const VertexNeighbors& neighbors,
+                                          const std::vector<std::uint8_t>& moved,
+                                          const std::vector<std::uint8_t>& fixed) {
   const index_t nv = mesh.vertex_slots();
   std::vector<double> d(nv, std::numeric_limits<double>::infinity());
+  std::vector<std::uint8_t> label(nv, 0), done(nv, 0);  // label 0 fixed, 1 moved
+  using Item = std::tuple<double, std::uint8_t, index_t>;  // distance, label, vertex
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  std::size_t moved_queued = 0;
+  for (index_t v = 0; v < nv; ++v) {
+    if (fixed[v] || moved[v]) {
+      d[v] = 0;
+      label[v] = fixed[v] ? 0 : 1;
+      queue.emplace(0.0, label[v], v);
+      moved_queued += label[v];
+    }
+  }
+  while (moved_queued > 0) {
+    const auto [dv, lv, v] = queue.top();
+    queue.pop();
+    moved_queued -= lv;
+    if (done[v]) continue;
+    done[v] = 1;
+    const Vec3& x = mesh.point(v);
+    neighbors.for_each(v, [&](index_t u) {
+      if (done[u]) return;
+      const double du = dv + (mesh.point(u) - x).norm();
+      if (du < d[u] || (du == d[u] && lv < label[u])) {
+        d[u] = du;
+        label[u] = lv;
+        queue.emplace(du, lv, u);
+        moved_queued += lv;
+      }
+    });
+  }
+  return label;
+}
+
+/// The vertices within `reach` of the moved vertices along the edges (a
+/// Dijkstra that stops at `reach`, so it stays local).
+std::vector<std::uint8_t> within_reach(const TetMesh& mesh, const VertexNeighbors& neighbors,
+                                       const std::vector<std::uint8_t>& moved, double reach) {
+  const index_t nv = mesh.vertex_slots();
+  std::vector<double> d(nv, std::numeric_limits<double>::infinity());
+  std::vector<std::uint8_t> in(nv, 0);
   using Item = std::pair<double, index_t>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
   for (index_t v = 0; v < nv; ++v) {
-    if (source[v]) {
+    if (moved[v]) {
       d[v] = 0;
       queue.emplace(0.0, v);
     }
@@ -36,17 +139,19 @@ std::vector<double> edge_distance(const TetMesh& mesh, const std::vector<index_t
   while (!queue.empty()) {
     const auto [dv, v] = queue.top();
     queue.pop();
-    if (dv > d[v]) continue;
-    for (index_t k = offsets[v]; k < offsets[v + 1]; ++k) {
-      const index_t u = adjacent[k];
-      const double du = dv + (mesh.point(u) - mesh.point(v)).norm();
-      if (du < d[u]) {
+    if (dv > reach) break;
+    if (in[v]) continue;
+    in[v] = 1;
+    const Vec3& x = mesh.point(v);
+    neighbors.for_each(v, [&](index_t u) {
+      const double du = dv + (mesh.point(u) - x).norm();
+      if (du < d[u] && du <= reach) {
         d[u] = du;
         queue.emplace(du, u);
       }
-    }
+    });
   }
-  return d;
+  return in;
 }
 
 }  // namespace
@@ -68,25 +173,11 @@ std::vector<std::uint8_t> extract_deformable_region(const TetMesh& mesh, const D
       for (int k = 0; k < 3; ++k) (*flag)[mesh.tet(t)[kTetFace[f][k]]] = 1;
     }
   }
-  // Vertex adjacency (CSR) from the edges.
-  const std::vector<Edge> edges = unique_edges(mesh);
-  std::vector<index_t> offsets(nv + 1, 0), adjacent(2 * edges.size());
-  for (const Edge& e : edges) {
-    ++offsets[e.first + 1];
-    ++offsets[e.second + 1];
-  }
-  for (index_t v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
-  std::vector<index_t> fill(offsets.begin(), offsets.end() - 1);
-  for (const Edge& e : edges) {
-    adjacent[fill[e.first]++] = e.second;
-    adjacent[fill[e.second]++] = e.first;
-  }
-  const std::vector<double> to_moved = edge_distance(mesh, offsets, adjacent, moved);
-  const std::vector<double> to_fixed = edge_distance(mesh, offsets, adjacent, fixed);
+  VertexNeighbors neighbors(mesh);
+  const std::vector<std::uint8_t> nearer = nearer_to_moved(mesh, neighbors, moved, fixed);
+  const std::vector<std::uint8_t> reached = within_reach(mesh, neighbors, moved, reach);
   std::vector<std::uint8_t> near(nv, 0);
-  for (index_t v = 0; v < nv; ++v) {
-    near[v] = mesh.vertex_alive(v) && !fixed[v] && (to_moved[v] <= reach || to_moved[v] < to_fixed[v]);
-  }
+  for (index_t v = 0; v < nv; ++v) near[v] = mesh.vertex_alive(v) && !fixed[v] && (reached[v] || nearer[v]);
   std::vector<std::uint8_t> region(nt, 0);
   for (index_t t = 0; t < nt; ++t) {
     if (!mesh.tet_alive(t)) continue;

@@ -51,13 +51,14 @@ bool mean_value_coordinates_3d(const Vec3& x, const std::vector<Vec3>& vertices,
   constexpr double eps = 1e-12;
   for (const Tri& tri : triangles) {
     const int i[3] = {static_cast<int>(tri[0]), static_cast<int>(tri[1]), static_cast<int>(tri[2])};
-    double theta[3], sin_theta[3], c[3], s[3];
+    double theta[3], sin_theta[3], half_chord[3], c[3], s[3];
     double h = 0;
     for (int k = 0; k < 3; ++k) {
       // Arc lengths L^s of the spherical triangle (Eq. 2.18's terms): the
       // chord l of the arc theta is 2 sin(theta / 2), so sin(theta) =
       // l sqrt(1 - l^2 / 4) needs no more trigonometry.
       const double half = std::min(1.0, 0.5 * (u[i[(k + 1) % 3]] - u[i[(k + 2) % 3]]).norm());
+      half_chord[k] = half;
       theta[k] = 2 * std::asin(half);
       sin_theta[k] = 2 * half * std::sqrt(std::max(0.0, 1 - half * half));
       h += 0.5 * theta[k];
@@ -76,11 +77,14 @@ bool mean_value_coordinates_3d(const Vec3& x, const std::vector<Vec3>& vertices,
     const double det = u[i[0]].dot(u[i[1]].cross(u[i[2]]));
     const double sign = det < 0 ? -1.0 : 1.0;
     bool skip = false;
-    const double sin_h = std::sin(h);
+    const double sin_h = std::sin(h), cos_h = std::cos(h);
     for (int k = 0; k < 3; ++k) {
-      // Eq. 2.17: the angles of the spherical triangle.
+      // Eq. 2.17: the angles of the spherical triangle; sin(h - theta) by
+      // the difference formula, with cos(theta) = 1 - l^2 / 2.
       const double denom = sin_theta[(k + 1) % 3] * sin_theta[(k + 2) % 3];
-      c[k] = denom > 0 ? 2 * sin_h * std::sin(h - theta[k]) / denom - 1 : 1;
+      const double cos_theta = 1 - 2 * half_chord[k] * half_chord[k];
+      const double sin_h_theta = sin_h * cos_theta - cos_h * sin_theta[k];
+      c[k] = denom > 0 ? 2 * sin_h * sin_h_theta / denom - 1 : 1;
       c[k] = std::clamp(c[k], -1.0, 1.0);
       s[k] = sign * std::sqrt(std::max(0.0, 1 - c[k] * c[k]));
       if (std::abs(s[k]) <= eps) skip = true;  // x in the triangle's plane, outside it

@@ -13,7 +13,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <unordered_map>
 
 namespace femorph {
 
@@ -34,22 +33,24 @@ Status factorise(const std::vector<Param::Kind>& kind, Param::Kind unknown_kind,
   out.unknowns = std::move(rows.unknowns);
   const std::size_t n = out.unknowns.size();
   if (n == 0) return Status::success();
-  std::unordered_map<index_t, index_t> row_of, col_of;
-  row_of.reserve(2 * n);
+  // Row of each unknown and column of each known, by vertex (-1: none).
+  std::vector<index_t> row_of(kind.size(), kInvalidIndex), col_of(kind.size(), kInvalidIndex);
   for (std::size_t i = 0; i < n; ++i) row_of[out.unknowns[i]] = static_cast<index_t>(i);
   std::vector<Triplet> a, b;
+  std::size_t entries = n;
+  for (const auto& row : rows.weights) entries += row.size();
+  a.reserve(entries);
   for (std::size_t i = 0; i < n; ++i) {
     a.emplace_back(static_cast<int>(i), static_cast<int>(i), 1.0);
     for (const auto& [v, w] : rows.weights[i]) {
-      if (kind[v] == unknown_kind && row_of.count(v)) {
+      if (kind[v] == unknown_kind && row_of[v] >= 0) {
         a.emplace_back(static_cast<int>(i), static_cast<int>(row_of[v]), -w);
       } else {
-        auto it = col_of.find(v);
-        if (it == col_of.end()) {
-          it = col_of.emplace(v, static_cast<index_t>(out.knowns.size())).first;
+        if (col_of[v] < 0) {
+          col_of[v] = static_cast<index_t>(out.knowns.size());
           out.knowns.push_back(v);
         }
-        b.emplace_back(static_cast<int>(i), static_cast<int>(it->second), w);
+        b.emplace_back(static_cast<int>(i), static_cast<int>(col_of[v]), w);
       }
     }
   }
@@ -93,14 +94,8 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
   out.mapped_regions.assign(nv, {});
   out.deformable = deformable;
 
-  // Vertices whose whole ball is in the deformable region may move.
+  // Vertices whose whole ball is in the deformable region may move (free).
   std::vector<std::uint8_t> free(nv, 1);
-  if (!deformable.empty()) {
-    for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-      if (!mesh.tet_alive(t) || (t < static_cast<index_t>(deformable.size()) && deformable[t])) continue;
-      for (const index_t v : mesh.tet(t)) free[v] = 0;
-    }
-  }
 
   // The boundary around the region: every vertex that may move (in a
   // deformable tet, or on a moved region, which the map moves wherever it
@@ -116,6 +111,8 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
       const Tet& T = mesh.tet(t);
       if (t < static_cast<index_t>(deformable.size()) && deformable[t]) {
         for (const index_t v : T) near[v] = 1;
+      } else {
+        for (const index_t v : T) free[v] = 0;
       }
       for (int f = 0; f < 4; ++f) {
         const index_t r = mesh.face_region(t, f);

@@ -4,6 +4,7 @@
 //
 //   build/bin/bench_deform [--runs=5] [--deform-runs=3] [--param-triangles=95000]
 //                          [--deform-triangles=115000] [--inner=5000] [--no-peer] [--no-deform] [--no-param]
+//                          [--no-whole] [--cpu]
 //
 // Parts: boss_block made with Data/generate_parts.py --fine at about
 // --param-triangles boundary triangles (about 110,000 vertices: the whole-mesh
@@ -14,7 +15,10 @@
 // (vtkFEMorphSegmentationArrays::SegmentMesh, FEMorph Segment's defaults).
 //
 // Rows (medians of --runs runs; the goals are printed beside them):
-//  - parameterize_vertices with an empty deformable mask (the whole mesh);
+//  - parameterize_vertices with an empty deformable mask (the whole mesh;
+//    --no-whole skips it);
+//  (--cpu: the rows in process CPU seconds instead of wall seconds, to
+//  compare two versions with OMP_NUM_THREADS=1 on a machine others load);
 //  - parameterize_vertices of a local region: extract_deformable_region with
 //    the reach (found by bisection) that gives about --inner inner unknowns;
 //  - update_region_surfaces + reposition_vertices for a new target on that
@@ -53,6 +57,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -76,12 +81,23 @@ double median(std::vector<double> v) {
 }
 
 /// Median wall time of `runs` calls of `f`.
+/// --cpu: rows timed by the process's CPU time, not wall time (with
+/// OMP_NUM_THREADS=1, to compare two versions on a machine others load).
+bool g_cpu_time = false;
+
+double cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 double time_median(int runs, const std::function<void()>& f) {
   std::vector<double> t;
   for (int r = 0; r < runs; ++r) {
     const auto t0 = Clock::now();
+    const double c0 = g_cpu_time ? cpu_seconds() : 0;
     f();
-    t.push_back(seconds_since(t0));
+    t.push_back(g_cpu_time ? cpu_seconds() - c0 : seconds_since(t0));
   }
   return median(t);
 }
@@ -233,7 +249,7 @@ int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   int runs = 5, deform_runs = 3, param_triangles = 95000, deform_triangles = 115000;
   std::size_t inner_target = 5000;
-  bool peer = true, deform_on = true, param_on = true;
+  bool peer = true, deform_on = true, param_on = true, whole_on = true;
   for (int i = 1; i < argc; ++i) {
     if (std::strncmp(argv[i], "--runs=", 7) == 0) runs = std::max(1, std::atoi(argv[i] + 7));
     else if (std::strncmp(argv[i], "--deform-runs=", 14) == 0) deform_runs = std::max(1, std::atoi(argv[i] + 14));
@@ -243,10 +259,12 @@ int main(int argc, char** argv) {
     else if (std::strcmp(argv[i], "--no-peer") == 0) peer = false;
     else if (std::strcmp(argv[i], "--no-deform") == 0) deform_on = false;
     else if (std::strcmp(argv[i], "--no-param") == 0) param_on = false;
+    else if (std::strcmp(argv[i], "--no-whole") == 0) whole_on = false;
+    else if (std::strcmp(argv[i], "--cpu") == 0) g_cpu_time = true;
     else {
       std::fprintf(stderr,
                    "usage: %s [--runs=5] [--deform-runs=3] [--param-triangles=95000] [--deform-triangles=115000] "
-                   "[--inner=5000] [--no-peer] [--no-deform] [--no-param]\n",
+                   "[--inner=5000] [--no-peer] [--no-deform] [--no-param] [--no-whole] [--cpu]\n",
                    argv[0]);
       return 2;
     }
@@ -274,7 +292,7 @@ int main(int argc, char** argv) {
   std::vector<double> whole_surface, whole_inner, whole_rows;
   long rss0 = peak_start();
   bool ok = true;
-  const double t_whole = time_median(runs, [&] {
+  const double t_whole = !whole_on ? NAN : time_median(runs, [&] {
     const auto t0 = Clock::now();
     ok = ok && femorph::parameterize_vertices(part.mesh, plan, {}, whole);
     whole_surface.push_back(whole.seconds_surface);
@@ -365,12 +383,13 @@ int main(int argc, char** argv) {
       superposition_error = std::max(superposition_error, (superposed[v] - solved[v]).norm());
     }
   }
-  const double t_reposition_whole = time_median(runs, [&] {
+  const double t_reposition_whole = !whole_on ? NAN : time_median(runs, [&] {
     const femorph::SurfaceUpdate u = femorph::update_region_surfaces(plan, part.regions, targets[k++ % 2]);
     femorph::reposition_vertices(part.mesh, part.regions, whole, u, points);
   });
 
-  std::printf("whole mesh: unknowns curve %zu, surface %zu, inner %zu; fixed/mapped the rest\n",
+  if (whole_on)
+    std::printf("whole mesh: unknowns curve %zu, surface %zu, inner %zu; fixed/mapped the rest\n",
               whole.curves.unknowns.size(), whole.surfaces.unknowns.size(), whole.inner.unknowns.size());
   std::printf("local region: reach %.4g mm (bisection), %zu deformable tets, unknowns curve %zu, surface %zu, "
               "inner %zu\n",
@@ -378,7 +397,8 @@ int main(int argc, char** argv) {
               local.inner.unknowns.size());
   print_header();
   print_row("parameterize_vertices, whole mesh", runs, t_whole, 1.5, "15.0");
-  std::printf("  of which: up to the inner factorisation %.4f s (boundary extraction alone %.4f s), inner "
+  if (whole_on)
+    std::printf("  of which: up to the inner factorisation %.4f s (boundary extraction alone %.4f s), inner "
               "factorisation %.4f s, outside the core's timers %.4f s\n",
               median(whole_surface), t_extract, median(whole_inner), median(whole_rows));
   print_row("parameterize_vertices, local region", runs, t_local, 0.05, "0.10");
@@ -392,7 +412,8 @@ int main(int argc, char** argv) {
               t_update, history.inner.size(), superposition_error);
   print_row("  the same, every target solved (no history)", runs, t_reposition_solved, NAN, "-");
   print_row("update_region_surfaces + reposition_vertices, whole", runs, t_reposition_whole, NAN, "-");
-  std::printf("memory: whole-mesh parameterisation peak %.0f bytes per tet above the resident set before it "
+  if (whole_on)
+    std::printf("memory: whole-mesh parameterisation peak %.0f bytes per tet above the resident set before it "
               "(%.1f MB for %zu tets)\n",
               1024.0 * static_cast<double>(whole_peak) / static_cast<double>(part.tets),
               static_cast<double>(whole_peak) / 1024, part.tets);
