@@ -85,13 +85,15 @@ void find_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformP
   std::vector<Vec3> points;
   std::string why;
   const std::vector<index_t> faces = changing_faces(mesh, plan);
+  // The trial values of a linear dimension superpose earlier solves.
+  RepositionHistory history;
   const auto valid = [&](double value) {
     const SurfaceUpdate update = update_region_surfaces(plan, regions, value);
     if (!update.error.empty()) {
       why = update.error;
       return false;
     }
-    reposition_vertices(mesh, regions, param, update, points);
+    reposition_vertices(mesh, regions, param, update, points, &history);
     return faces_unfolded(mesh, regions, plan, update, points, faces, &why);
   };
   const bool angle = plan.options.type == DeformationType::ChamferAngle;
