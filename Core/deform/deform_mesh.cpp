@@ -249,7 +249,23 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCu
             density[v] += origin.weights[k] * reference_density[o];
         }
       }
-      if (!target.density.build(mesh.points(), live_tet_list(mesh), density, 0.5 * reference_edge,
+      // The density grid covers the tets the improvement may touch and one
+      // layer more (it is read only there).
+      std::vector<Tet> density_tets;
+      if (grown.empty()) {
+        density_tets = live_tet_list(mesh);
+      } else {
+        std::vector<std::uint8_t> near(mesh.vertex_slots(), 0);
+        for (index_t tt = 0; tt < mesh.tet_slots(); ++tt)
+          if (mesh.tet_alive(tt) && grown[tt])
+            for (const index_t v : mesh.tet(tt)) near[v] = 1;
+        for (index_t tt = 0; tt < mesh.tet_slots(); ++tt) {
+          if (!mesh.tet_alive(tt)) continue;
+          const Tet& T = mesh.tet(tt);
+          if (near[T[0]] || near[T[1]] || near[T[2]] || near[T[3]]) density_tets.push_back(T);
+        }
+      }
+      if (!target.density.build(mesh.points(), density_tets, density, 0.5 * reference_edge,
                                 target_options.max_grid_points, false)) {
         target.warnings.push_back("no density field could be made; the improvement keeps no density target.");
       }
