@@ -33,6 +33,23 @@ std::vector<index_t> changing_faces(const TetMesh& mesh, const DeformPlan& plan)
   return faces;
 }
 
+/// The tets with a vertex on a moved or deformed region: the boundary the
+/// trial values move lies in them, so the parameterisation of the boundary
+/// (inner vertices fixed) needs no more of the mesh.
+std::vector<std::uint8_t> changing_tets(const TetMesh& mesh, const std::vector<index_t>& faces) {
+  std::vector<std::uint8_t> on(mesh.vertex_slots(), 0), tets(mesh.tet_slots(), 0);
+  for (const index_t code : faces) {
+    const Tet& T = mesh.tet(code / 4);
+    for (int k = 0; k < 3; ++k) on[T[kTetFace[code % 4][k]]] = 1;
+  }
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const Tet& T = mesh.tet(t);
+    tets[t] = on[T[0]] || on[T[1]] || on[T[2]] || on[T[3]];
+  }
+  return tets;
+}
+
 bool faces_unfolded(const TetMesh& mesh, const DeformRegions& regions, const DeformPlan& plan,
                     const SurfaceUpdate& update, const std::vector<Vec3>& points, const std::vector<index_t>& faces,
                     std::string* why) {
@@ -77,14 +94,14 @@ bool boundary_unfolded(const TetMesh& mesh, const DeformRegions& regions, const 
 }
 
 void find_valid_range(const TetMesh& mesh, const DeformRegions& regions, DeformPlan& plan) {
+  const std::vector<index_t> faces = changing_faces(mesh, plan);
   VertexParameterization param;
-  if (!parameterize_vertices(mesh, plan, {}, param, false)) {
+  if (!parameterize_vertices(mesh, plan, changing_tets(mesh, faces), param, false)) {
     plan.valid_min = plan.valid_max = plan.current;
     return;
   }
   std::vector<Vec3> points;
   std::string why;
-  const std::vector<index_t> faces = changing_faces(mesh, plan);
   // The trial values of a linear dimension superpose earlier solves.
   RepositionHistory history;
   const auto valid = [&](double value) {
@@ -150,7 +167,8 @@ bool extend_valid_range(const TetMesh& mesh, const DeformRegions& regions, Defor
     const double next = std::abs(target - value) <= step ? target : value + (up ? step : -step);
     const SurfaceUpdate update = update_region_surfaces(step_plan, surfaces, next);
     VertexParameterization param;
-    bool ok = update.error.empty() && parameterize_vertices(work, step_plan, {}, param, false);
+    bool ok = update.error.empty() &&
+              parameterize_vertices(work, step_plan, changing_tets(work, changing_faces(work, step_plan)), param, false);
     if (ok) {
       reposition_vertices(work, surfaces, param, update, points);
       ok = boundary_unfolded(work, surfaces, step_plan, update, points, &why);
