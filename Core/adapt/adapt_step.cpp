@@ -59,6 +59,26 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
   const VertexGrid vertex_grid = build_vertex_grid(mesh_, box_lo_, box_hi_, cell_);
   std::vector<index_t> region = extract_deformed_region(mesh_, material_, vertex_grid, distance_grid_,
                                                         pose_.inverse(), options_.distance_threshold);
+  if (assembly_ && !zone.empty()) {
+    // Beyond the thesis: an assembly has no space, so no K_Df; the parts'
+    // tets around the zone (one ring) join the region instead, so that 3.6
+    // moves the zone's boundary vertices too (they are inner there).
+    std::vector<std::uint8_t> in_zone(static_cast<std::size_t>(mesh_.tet_slots()), 0);
+    for (const index_t t : zone) in_zone[t] = 1;
+    std::vector<index_t> ball;
+    std::vector<std::uint8_t> seen(static_cast<std::size_t>(mesh_.vertex_slots()), 0);
+    for (const index_t t : zone)
+      for (const index_t v : mesh_.tet(t)) {
+        if (seen[v]) continue;
+        seen[v] = 1;
+        mesh_.vertex_ball(v, ball);
+        for (const index_t b : ball)
+          if (!in_zone[b]) {
+            in_zone[b] = 1;
+            region.push_back(b);
+          }
+      }
+  }
   if (!zone.empty()) {
     std::sort(region.begin(), region.end());
     std::vector<index_t> both;

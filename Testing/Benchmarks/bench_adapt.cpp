@@ -238,6 +238,24 @@ AssemblyResult run_assembly_case(const testing::CrankAssembly& g, int steps) {
                 rep.seconds_contact, rep.seconds_improve, c.coincident ? "  FAIL non-conformal" : "",
                 valid ? "" : "  FAIL invalid", area_ok ? "" : "  FAIL area");
     r.base.steps = n;
+    if (std::getenv("FEMORPH_ADAPT_WORST") && rep.min_stretch < 0.07) {
+      std::vector<std::pair<double, std::size_t>> worst;
+      for (std::size_t t = 0; t < o.tets.size(); ++t) {
+        const Tet& T = o.tets[t];
+        worst.emplace_back(tet_stretch(o.points[T[0]], o.points[T[1]], o.points[T[2]], o.points[T[3]]), t);
+      }
+      std::sort(worst.begin(), worst.end());
+      for (std::size_t i = 0; i < 4; ++i) {
+        const Tet& T = o.tets[worst[i].second];
+        std::printf("  worst %.3f material %d:", worst[i].first, o.material[worst[i].second]);
+        for (const index_t v : T) {
+          const Vec3& p = o.points[v];
+          std::printf(" (rho %.4f th %.1f z %.3f)", std::hypot(p.x(), p.y()), std::atan2(p.y(), p.x()) * 180 / kPi,
+                      p.z());
+        }
+        std::printf("\n");
+      }
+    }
   }
   r.base.median_step = median(times);
   std::printf("3.7.4 crank assembly: %d of %d steps, median %.3f s/step, min stretch over all steps %.4f (input "

@@ -36,9 +36,10 @@ struct AssemblyRun {
 };
 
 // Turns the crank `steps` x 10 degrees and checks every step (see the file's
-// comment); the crank's ends out of the bearing (never near the contact:
-// |z| > Lb / 2 + (Lc - Lb) / 4) and the bearing's outer surface are the
-// input's, exactly moved and unchanged.
+// comment); the crank's surface at its ends out of the bearing (never near
+// the contact: |z| > Lb / 2 + (Lc - Lb) / 3; inside, the region's ring of
+// large inner tets may reach that far) and the bearing's outer surface are
+// the input's, exactly moved and unchanged.
 AssemblyRun run_crank(const testing::CrankAssembly& g, int steps) {
   AssemblyRun run;
   Status made;
@@ -69,7 +70,9 @@ AssemblyRun run_crank(const testing::CrankAssembly& g, int steps) {
     for (const index_t v : mm.tets[t]) {
       const Vec3& p = mm.points[v];
       const double rho = std::hypot(p.x(), p.y());
-      if (mm.material[t] == 1 && std::abs(p.z()) > 0.5 * g.Lb + 0.25 * (g.Lc - g.Lb)) core.push_back(p);
+      const bool crank_surface = rho > g.r - 1e-9 || std::abs(p.z()) > 0.5 * g.Lc - 1e-9;
+      if (mm.material[t] == 1 && crank_surface && std::abs(p.z()) > 0.5 * g.Lb + (g.Lc - g.Lb) / 3)
+        core.push_back(p);
       if (mm.material[t] == 2 && rho > g.R - 1e-9) outer.push_back(p);
     }
   const auto less = [](const Vec3& a, const Vec3& b) {
@@ -118,7 +121,7 @@ AssemblyRun run_crank(const testing::CrankAssembly& g, int steps) {
         }
     std::sort(bearing_now.begin(), bearing_now.end(), less);
     for (const Vec3& p : outer) outer_found += std::binary_search(bearing_now.begin(), bearing_now.end(), p, less);
-    EXPECT_EQ(core_found, core.size()) << "step " << n << ": the crank's ends did not move rigidly";
+    EXPECT_EQ(core_found, core.size()) << "step " << n << ": the crank's ends' surface did not move rigidly";
     EXPECT_EQ(outer_found, outer.size()) << "step " << n << ": the bearing's outer surface changed";
     const double drift = std::abs(double(out.points.size()) / double(mm.points.size()) - 1);
     EXPECT_LE(drift, 0.10) << "step " << n;
@@ -142,7 +145,9 @@ TEST(AdaptAssembly, CrankTurnsInBearing) {
   const int steps = 36;
   const AssemblyRun run = run_crank(g, steps);
   ASSERT_EQ(run.steps, steps);
-  EXPECT_GE(run.worst_stretch, 0.04);
+  // The zone's refill and 3.6 on it and the ring around it keep the
+  // quality (thesis 3.7.4: above the recommended lower limit).
+  EXPECT_GE(run.worst_stretch, 0.1);
   std::vector<double> t = run.seconds;
   std::sort(t.begin(), t.end());
   std::printf("crank in bearing: %d steps, min stretch %.3f, largest vertex drift %.1f%%, median %.3f s/step\n", steps,
