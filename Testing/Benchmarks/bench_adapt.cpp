@@ -213,6 +213,7 @@ AssemblyResult run_assembly_case(const testing::CrankAssembly& g, int steps) {
   std::printf("%5s %9s %9s %8s %8s %8s %9s %9s %8s %8s %8s\n", "step", "vertices", "tets", "min st", "mean st",
               "contact", "area", "expected", "s", "zone s", "impr s");
   std::vector<double> times;
+  std::vector<double> part[7];
   const double edge = std::min(g.crank_edge(), g.bearing_edge());
   for (int n = 1; n <= steps; ++n) {
     AdaptStepReport rep;
@@ -223,6 +224,14 @@ AssemblyResult run_assembly_case(const testing::CrankAssembly& g, int steps) {
       break;
     }
     times.push_back(rep.seconds);
+    const double parts[6] = {rep.seconds_region, rep.seconds_submesh, rep.seconds_embed,
+                             rep.seconds_contact, rep.seconds_improve, rep.seconds_splice};
+    double rest = rep.seconds;
+    for (int k = 0; k < 6; ++k) {
+      part[k].push_back(parts[k]);
+      rest -= parts[k];
+    }
+    part[6].push_back(rest);
     r.base.min_stretch = std::min(r.base.min_stretch, rep.min_stretch);
     r.base.drift = std::max(r.base.drift, std::abs(double(rep.vertices) / double(r0.vertices) - 1));
     r.final_vertices = rep.vertices;
@@ -258,6 +267,11 @@ AssemblyResult run_assembly_case(const testing::CrankAssembly& g, int steps) {
     }
   }
   r.base.median_step = median(times);
+  if (!times.empty())
+    std::printf("median s/step by part: region %.3f, submesh %.3f, embedding %.3f, contact zone (merge, refill) "
+                "%.3f, improvement %.3f, splice %.3f, rest (overlap check, contact detection, step set-up) %.3f\n",
+                median(part[0]), median(part[1]), median(part[2]), median(part[3]), median(part[4]), median(part[5]),
+                median(part[6]));
   std::printf("3.7.4 crank assembly: %d of %d steps, median %.3f s/step, min stretch over all steps %.4f (input "
               "%.4f), vertices %zu -> %zu (largest drift %.2f%%), non-conformal contact in %d steps, contact area "
               "off by > 1%% in %d steps, invalid mesh in %d steps%s%s\n",

@@ -222,6 +222,26 @@ TEST(AdaptAssembly, PushIntoTheBearingIsRefused) {
   EXPECT_EQ(after.tets, before.tets);
 }
 
+// detect_overlap on one tet of part 2 (the unit corner tet) and one of part
+// 1 elsewhere: a point deep inside part 2 is an overlap, one on its face or
+// within the tolerance of it is not, nor a point of part 1's own tet.
+TEST(AdaptAssembly, DetectOverlapByDepth) {
+  const std::vector<Vec3> points{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1},
+                                 {5, 0, 0}, {6, 0, 0}, {5, 1, 0}, {5, 0, 1}};
+  const std::vector<Tet> tets{{{0, 1, 2, 3}}, {{4, 5, 6, 7}}};
+  TetMesh mesh;
+  ASSERT_TRUE(mesh.build(points, tets));
+  const std::vector<int> material{2, 1};
+  const double tol = 0.01;
+  EXPECT_TRUE(detect_overlap(mesh, material, 1, {Vec3(0.2, 0.2, 0)}, tol));        // on the face z = 0
+  EXPECT_TRUE(detect_overlap(mesh, material, 1, {Vec3(0.2, 0.2, 0.005)}, tol));    // within the tolerance
+  EXPECT_TRUE(detect_overlap(mesh, material, 1, {Vec3(5.1, 0.1, 0.1)}, tol));      // part 1's own tet
+  EXPECT_TRUE(detect_overlap(mesh, material, 1, {Vec3(2, 2, 2)}, tol));            // outside both
+  const Status s = detect_overlap(mesh, material, 1, {Vec3(0.1, 0.1, 0.1)}, tol);  // 0.1 deep
+  EXPECT_FALSE(s);
+  EXPECT_NE(s.message.find("object 1 would overlap object 2"), std::string::npos) << s.message;
+}
+
 // A single part without a space mesh has nothing to adapt.
 TEST(AdaptAssembly, ASinglePartIsRefused) {
   const testing::CrankAssembly g;
