@@ -134,7 +134,7 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
   if (!assembly && surface_faces > 0 && shared_faces == 0)
     return Status::failure("the moving object (material " + std::to_string(options.moving_object) +
                            ") shares no face with the space mesh: the interface is not conformal (merge coincident "
-                           "points first; separately meshed parts, the assembly mode, are not supported yet)");
+                           "points first; separately meshed parts without a space mesh are an assembly, 3.7.4)");
   std::vector<Vec3> surface;
   Vec3 olo = Vec3::Constant(std::numeric_limits<double>::infinity()), ohi = -olo;
   for (const index_t v : object_vertices_) {
