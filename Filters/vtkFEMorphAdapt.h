@@ -15,15 +15,20 @@
  * 3.7.3): objects that touch or slide on each other along the same analytic
  * surface (plane, cylinder, cone, sphere, torus) get a conformal contact
  * surface each step (every contact triangle a face of one tetrahedron of
- * each object), also when they touch in the input. Not supported yet:
- * contacts wrapping all around a surface (a shaft in a full hole), and
- * separately meshed parts (the assembly mode, 3.7.4). The algorithm is femorph_core's
- * AdaptSession (Core/adapt/adapt.h).
+ * each object), also when they touch in the input. An input without
+ * space cells (no material 0) is an assembly of parts meshed separately
+ * (3.7.4): their touching surfaces need not be conformal; each step makes
+ * the moving part's contacts conformal and moves the rest of it rigidly.
+ * Not supported yet: contacts wrapping all around a surface (a shaft in a
+ * full hole). The algorithm is femorph_core's AdaptSession
+ * (Core/adapt/adapt.h).
  *
  * Input 0: VTK_TETRA cells with the integer cell array MaterialArray
  * (default "MaterialId", one component, values >= 0): 0 is the space mesh,
- * k > 0 object k. The moving object (MovingObject) must not touch the
- * domain's outer boundary nor share vertices with another object. The input is never modified, and its own time
+ * k > 0 object k. With a space mesh, the moving object (MovingObject) must
+ * not touch the domain's outer boundary. Without one (an assembly, 3.7.4),
+ * the parts' surfaces are the domain's boundary, and parts must not
+ * overlap (touching is fine). The input is never modified, and its own time
  * steps are not requested (this filter's time is the motion step).
  *
  * Input 1 (optional, "Motion"): a vtkTable with the numeric columns m00, m01,
@@ -83,9 +88,10 @@
  * InnerVertices (unknowns of Eq. 3.2, summed over sub-steps).
  *
  * Errors (empty outputs): no MaterialArray, an array that is not an integer
- * one-component cell array, a negative id, no cell of MovingObject, no space
- * cell, a moving object sharing vertices with another object (in contact at
- * step 0), a motion-table row that is not rigid or columns missing. A step the
+ * one-component cell array, a negative id, no cell of MovingObject, an
+ * object whose interface with the space is not conformal, an assembly (no
+ * space cell) of one part or whose parts overlap, a motion-table row that
+ * is not rigid or columns missing. A step the
  * core refuses (the object would penetrate the boundary or another object,
  * or the space between collapse) is an error naming the step; the outputs
  * for that and every later time are then the last step computed, and the

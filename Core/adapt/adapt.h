@@ -224,6 +224,23 @@ Status improve_deformed_region(RegionMesh& region, const DensityGrid* density, d
 Status detect_penetration(const TetMesh& mesh, const std::vector<int>& material_by_origin, int moving,
                           const std::vector<index_t>& vertices, const std::vector<Vec3>& target);
 
+/// Penetration in the assembly mode (3.7.4, no space mesh; beyond the
+/// thesis): fails, naming the point, when one of `points` (an object's
+/// surface points at a pose) lies inside a tet of an object other than
+/// `material` (material > 0) farther than `tolerance` from that object's
+/// boundary faces. Touching surfaces, and a curved surface's chords of two
+/// meshes, stay within the tolerance. `material_by_origin` is indexed by
+/// tet_origin.
+Status detect_overlap(const TetMesh& mesh, const std::vector<int>& material_by_origin, int material,
+                      const std::vector<Vec3>& points, double tolerance);
+/// detect_overlap's tolerance in the assembly mode, in the parts' mean
+/// surface edge: above the chord sag of a curved surface meshed by two parts
+/// (edge^2 / 8r, below 0.1 edge for r > 1.25 edge).
+constexpr double kOverlapTolerance = 0.1;
+/// The points of the boundary faces of the tets of one material (faces
+/// towards another material or the outside).
+std::vector<Vec3> part_surface_points(const TetMesh& mesh, const std::vector<int>& material_by_origin, int material);
+
 /// Beyond the thesis: a space mesh (material 0) around the objects of a tet
 /// mesh (every tet an object's, material > 0), filling the box [lo, hi] by
 /// TetGen's constrained Delaunay refinement with no Steiner point on the
@@ -250,9 +267,13 @@ class AdaptSession {
  public:
   /// Builds the session from the input mesh (tets positively oriented or all
   /// negative), a material id per tet and the motion. Fails with a message
-  /// naming the problem (no tet of the moving object, no space tet, an
-  /// invalid mesh, an interface between the object and space that is not
-  /// conformal).
+  /// naming the problem (no tet of the moving object, an invalid mesh, an
+  /// interface between the object and space that is not conformal).
+  /// A mesh with no space tet (material 0) is an assembly (thesis 3.7.4):
+  /// parts meshed separately, their touching surfaces on the domain's
+  /// boundary, not conformal; each step moves the moving part and makes its
+  /// contacts conformal (adapt_contact.cpp); parts that overlap are refused
+  /// (detect_overlap).
   Status init(const std::vector<Vec3>& points, const std::vector<Tet>& tets, const std::vector<int>& material,
               const RigidMotion& motion, const AdaptOptions& options);
   /// Computes step current_step() + 1. On failure the session stays at the
@@ -260,6 +281,8 @@ class AdaptSession {
   /// between the object and the boundary), and the message says why.
   Status advance(AdaptStepReport* report = nullptr);
   int current_step() const { return step_; }
+  /// True for an assembly (no space mesh, thesis 3.7.4).
+  bool assembly() const { return assembly_; }
   /// The report of step 0 (the input), whatever step the session is at.
   AdaptStepReport initial_report() const;
   AdaptOutput output() const;
@@ -286,7 +309,10 @@ class AdaptSession {
   /// another one, moved to `target`, must not go into that object beyond
   /// the contact surface (the walk of detect_penetration cannot tell).
   Status check_shared_vertices(const RigidPose& target) const;
+  /// detect_overlap of the moving part's surface at `target` (assembly).
+  Status check_assembly_overlap(const RigidPose& target) const;
   std::shared_ptr<AdaptContactState> contact_;
+  bool assembly_ = false;                  ///< no space mesh (3.7.4)
   TetMesh mesh_;
   std::vector<int> material_;              ///< per input tet (by tet_origin)
   std::vector<index_t> object_vertices_;   ///< the moving object's vertices

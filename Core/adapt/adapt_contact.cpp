@@ -223,12 +223,29 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
     return id;
   };
   std::vector<HoleFacet> facets = hole_facets(sub, zone, rm_material);
+  // 3.7.4, an assembly: a facet on the domain's boundary (no tet beyond it
+  // in the whole mesh) is a part's surface, a contact patch's face where it
+  // lies on the contact surface; it may change (replace_boundary_cavity).
+  const auto on_domain_boundary = [&](const HoleFacet& f) {
+    if (!assembly_ || (f.front >= 0 && f.back >= 0)) return false;
+    for (const index_t v : f.v)
+      if (v >= static_cast<index_t>(rm.global_vertex.size())) return false;
+    int lf = 0;
+    const index_t t = mesh_.find_face(rm.global_vertex[f.v[0]], rm.global_vertex[f.v[1]], rm.global_vertex[f.v[2]], &lf);
+    return t >= 0 && mesh_.adjacency(t, lf) < 0;
+  };
   // Faces of each contact's two patches leave the facets for the merge.
   std::vector<HoleFacet> kept;
+  std::vector<std::uint8_t> kept_outside;  // per kept facet: on the domain's boundary
   std::vector<std::vector<Tri>> moving_patch(contacts.size()), other_patch(contacts.size());
   // The same faces as facets (the moving ones with the copies' ids), for
   // when a contact has nothing to merge.
   std::vector<std::vector<HoleFacet>> moving_source(contacts.size()), other_source(contacts.size());
+  std::vector<std::vector<std::uint8_t>> moving_outside(contacts.size()), other_outside(contacts.size());
+  const auto keep = [&](const HoleFacet& f, bool outside) {
+    kept.push_back(f);
+    kept_outside.push_back(outside);
+  };
   const double tol = contact_->tolerance;
   const double cos30 = std::cos(kPi / 6);
   const auto on_surface = [&](const SurfacePrimitive& s, const Tri& f) {
@@ -238,8 +255,9 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
     return n.norm() > 0 && std::abs(n.normalized().dot(surface_normal(s, (a + b + c) / 3))) >= cos30;
   };
   for (HoleFacet f : facets) {
-    if (f.front < 0 || f.back < 0) {
-      kept.push_back(f);
+    const bool outside = on_domain_boundary(f);
+    if ((f.front < 0 || f.back < 0) && !outside) {
+      keep(f, false);
       continue;
     }
     // An interface: the moving object's side uses its copies.
@@ -257,6 +275,7 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
           HoleFacet h = f;
           for (index_t& v : h.v) v = moving_id(v);
           moving_source[k].push_back(h);
+          moving_outside[k].push_back(outside);
           taken = true;
         }
       }
@@ -266,6 +285,7 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
         if (on_surface(c.surface, t)) {
           other_patch[k].push_back(t);
           other_source[k].push_back(f);
+          other_outside[k].push_back(outside);
           taken = true;
         }
       }
@@ -273,7 +293,7 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
     if (taken) continue;
     if (f.front == moving || f.back == moving)
       for (index_t& v : f.v) v = moving_id(v);
-    kept.push_back(f);
+    keep(f, outside);
   }
   // Only the moving patch's faces near the other patch (within two
   // spacings in the chart) are merged; the rest stay as they are (a patch
@@ -288,23 +308,26 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
     for (const Tri& f : other_patch[k]) near.add(points[f[0]], points[f[1]], points[f[2]]);
     std::vector<Tri> trimmed;
     std::vector<HoleFacet> trimmed_source;
+    std::vector<std::uint8_t> trimmed_outside;
     for (std::size_t i = 0; i < moving_patch[k].size(); ++i) {
       const Tri& f = moving_patch[k][i];
       if (near.contains(chart.map((points[f[0]] + points[f[1]] + points[f[2]]) / 3), 2 * contact_->spacing)) {
         trimmed.push_back(f);
         trimmed_source.push_back(moving_source[k][i]);
+        trimmed_outside.push_back(moving_outside[k][i]);
       } else {
-        kept.push_back(moving_source[k][i]);
+        keep(moving_source[k][i], moving_outside[k][i]);
       }
     }
     moving_patch[k] = std::move(trimmed);
     moving_source[k] = std::move(trimmed_source);
+    moving_outside[k] = std::move(trimmed_outside);
   }
   // A contact with one patch empty has nothing to merge: its faces stay.
   for (std::size_t k = 0; k < contacts.size(); ++k)
     if (moving_patch[k].empty() || other_patch[k].empty()) {
-      kept.insert(kept.end(), moving_source[k].begin(), moving_source[k].end());
-      kept.insert(kept.end(), other_source[k].begin(), other_source[k].end());
+      for (std::size_t i = 0; i < moving_source[k].size(); ++i) keep(moving_source[k][i], moving_outside[k][i]);
+      for (std::size_t i = 0; i < other_source[k].size(); ++i) keep(other_source[k][i], other_outside[k][i]);
       moving_patch[k].clear();
       other_patch[k].clear();
     }
@@ -325,7 +348,8 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
     MergedContact merged;
     const auto at = [&points](index_t v) { return points[v]; };
     const Status s = merge_contact_surfaces(contacts[k].surface, moving_patch[k], other_patch[k], at, moving,
-                                            contacts[k].other_material, 0, static_cast<index_t>(points.size()),
+                                            contacts[k].other_material, assembly_ ? -1 : 0,
+                                            static_cast<index_t>(points.size()),
                                             0.3 * contact_->spacing, merged, movable);
     if (!s) return s;
     points.insert(points.end(), merged.new_points.begin(), merged.new_points.end());
@@ -336,7 +360,8 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
   // The other facets follow the merge: replaced vertices, and a fan where a
   // patch boundary edge they share received points.
   std::vector<HoleFacet> all;
-  for (HoleFacet f : kept) {
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    HoleFacet f = kept[i];
     for (index_t& v : f.v) {
       const auto it = replaced.find(v);
       if (it != replaced.end()) v = it->second;
@@ -355,7 +380,7 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
       all.push_back(f);
       continue;
     }
-    if (f.front < 0 || f.back < 0)
+    if ((f.front < 0 || f.back < 0) && !kept_outside[i])
       return Status::failure("the contact reaches the edge of the removed zone (a larger zone is needed)");
     // Fan from the opposite corner over the edge's points, in order a -> b.
     const index_t a = f.v[e], b = f.v[(e + 1) % 3], o = f.v[(e + 2) % 3];
@@ -385,9 +410,17 @@ Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index
   }
   const std::vector<Vec3> new_points(points.begin() + slots, points.end());
   const std::vector<VertexStencil> new_origins(new_points.size());
-  s = sub.replace_cavity(zone, new_tets, origins, new_points, new_origins);
+  s = assembly_ ? sub.replace_boundary_cavity(zone, new_tets, origins, new_points, new_origins)
+                : sub.replace_cavity(zone, new_tets, origins, new_points, new_origins);
   if (!s) return Status::failure("the contact zone's refill does not fit its hole: " + s.message);
   return Status::success();
+}
+
+Status AdaptSession::check_assembly_overlap(const RigidPose& target) const {
+  std::vector<Vec3> moved;
+  moved.reserve(object_surface_.size());
+  for (const index_t v : object_surface_) moved.push_back(target.apply(object_rest_[object_index_[v]]));
+  return detect_overlap(mesh_, material_, options_.moving_object, moved, kOverlapTolerance * contact_->spacing);
 }
 
 Status AdaptSession::check_shared_vertices(const RigidPose& target) const {

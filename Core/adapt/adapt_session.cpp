@@ -3,6 +3,7 @@
 // pose is always applied to them, so rounding does not accumulate), G_d and
 // the target density, built once by init().
 #include "adapt/adapt.h"
+#include "adapt/contact.h"
 
 #include "improve/mesh_density.h"
 #include "quality/tet_quality.h"
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
 #include <sstream>
 
 namespace femorph {
@@ -28,6 +30,22 @@ double largest_box_move(const Vec3& lo, const Vec3& hi, const RigidPose& a, cons
 }
 
 }  // namespace
+
+std::vector<Vec3> part_surface_points(const TetMesh& mesh, const std::vector<int>& material_by_origin, int material) {
+  std::vector<std::uint8_t> on(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t) || material_by_origin[mesh.tet_origin(t)] != material) continue;
+    for (int f = 0; f < 4; ++f) {
+      const index_t code = mesh.adjacency(t, f);
+      if (code >= 0 && material_by_origin[mesh.tet_origin(code >> 2)] == material) continue;
+      for (int k = 0; k < 3; ++k) on[mesh.tet(t)[kTetFace[f][k]]] = 1;
+    }
+  }
+  std::vector<Vec3> out;
+  for (index_t v = 0; v < mesh.vertex_slots(); ++v)
+    if (on[v]) out.push_back(mesh.point(v));
+  return out;
+}
 
 void stretch_range(const TetMesh& mesh, double* min, double* mean) {
   double lo = std::numeric_limits<double>::infinity(), sum = 0;
@@ -61,7 +79,8 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
   }
   if (object_tets == 0)
     return Status::failure("no cell has the moving object's material id " + std::to_string(options.moving_object));
-  if (space_tets == 0) return Status::failure("no cell has material id 0: there is no space mesh to adapt");
+  // No space mesh: an assembly of parts (3.7.4).
+  const bool assembly = space_tets == 0;
   if (!(options.distance_threshold > 0)) return Status::failure("the distance threshold must be > 0 cells");
   if (!(options.grid_cell_size >= 0) || !std::isfinite(options.grid_cell_size))
     return Status::failure("the grid cell size must be >= 0 (0: automatic)");
@@ -70,6 +89,10 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
   material_ = material;
   motion_ = motion;
   options_ = options;
+  assembly_ = assembly;
+  if (assembly && object_tets == tets.size())
+    return Status::failure("no cell has material id 0 and every cell is the moving object's: there is neither a space "
+                           "mesh nor another part to adapt");
 
   // The moving object: its vertices, and the surface ones (against space or
   // the outside) that seed G_d.
@@ -108,14 +131,14 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
       shared_faces += code >= 0;
     }
   }
-  if (surface_faces > 0 && shared_faces == 0)
+  if (!assembly && surface_faces > 0 && shared_faces == 0)
     return Status::failure("the moving object (material " + std::to_string(options.moving_object) +
                            ") shares no face with the space mesh: the interface is not conformal (merge coincident "
-                           "points first; separately meshed parts, the assembly mode, are not supported yet)");
+                           "points first; separately meshed parts without a space mesh are an assembly, 3.7.4)");
   std::vector<Vec3> surface;
   Vec3 olo = Vec3::Constant(std::numeric_limits<double>::infinity()), ohi = -olo;
   for (const index_t v : object_vertices_) {
-    if (mesh_.on_boundary(v))
+    if (!assembly && mesh_.on_boundary(v))
       return Status::failure("the moving object (material " + std::to_string(options.moving_object) +
                              ") touches the domain's outer boundary: it could not move without changing it");
     if (on_surface[v]) {
@@ -171,6 +194,16 @@ Status AdaptSession::init(const std::vector<Vec3>& points, const std::vector<Tet
   quality_floor_ = options.quality_floor > 0 ? options.quality_floor : std::clamp(1.1 * input_min, 0.1, 0.4);
   const Status contact = init_contact();
   if (!contact) return contact;
+  if (assembly) {
+    // 3.7.4's input: parts that touch, never overlap.
+    if (!contact_) return Status::failure("an assembly (no space mesh) needs a second part to contact");
+    std::set<int> parts(material_.begin(), material_.end());
+    for (const int m : parts) {
+      const Status o = detect_overlap(mesh_, material_, m, part_surface_points(mesh_, material_, m),
+                                      kOverlapTolerance * contact_->spacing);
+      if (!o) return Status::failure("the assembly's parts overlap: " + o.message);
+    }
+  }
   if (contact_) initial_.contact_faces = count_object_contact_faces(mesh_, material_);
   // Objects in contact at step 0: the shared vertices stay with the other
   // object (the first step's contact zone takes them).

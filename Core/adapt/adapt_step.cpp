@@ -59,6 +59,26 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
   const VertexGrid vertex_grid = build_vertex_grid(mesh_, box_lo_, box_hi_, cell_);
   std::vector<index_t> region = extract_deformed_region(mesh_, material_, vertex_grid, distance_grid_,
                                                         pose_.inverse(), options_.distance_threshold);
+  if (assembly_ && !zone.empty()) {
+    // Beyond the thesis: an assembly has no space, so no K_Df; the parts'
+    // tets around the zone (one ring) join the region instead, so that 3.6
+    // moves the zone's boundary vertices too (they are inner there).
+    std::vector<std::uint8_t> in_zone(static_cast<std::size_t>(mesh_.tet_slots()), 0);
+    for (const index_t t : zone) in_zone[t] = 1;
+    std::vector<index_t> ball;
+    std::vector<std::uint8_t> seen(static_cast<std::size_t>(mesh_.vertex_slots()), 0);
+    for (const index_t t : zone)
+      for (const index_t v : mesh_.tet(t)) {
+        if (seen[v]) continue;
+        seen[v] = 1;
+        mesh_.vertex_ball(v, ball);
+        for (const index_t b : ball)
+          if (!in_zone[b]) {
+            in_zone[b] = 1;
+            region.push_back(b);
+          }
+      }
+  }
   if (!zone.empty()) {
     std::sort(region.begin(), region.end());
     std::vector<index_t> both;
@@ -73,6 +93,15 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     std::sort(region.begin(), region.end());
   }
   report.seconds_region += since();
+  if (assembly_ && region.empty()) {
+    // An assembly's part away from the others: (ii) only.
+    for (std::size_t k = 0; k < object_vertices_.size(); ++k)
+      mesh_.set_point(object_vertices_[k], to.apply(object_rest_[k]));
+    pose_ = to;
+    ++mesh_version_;
+    report.moved_vertices += object_vertices_.size();
+    return Status::success();
+  }
   RegionMesh rm;
   Status s = make_region_mesh(mesh_, region, rm);
   report.seconds_submesh += since();
@@ -255,7 +284,10 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
     if (sub.vertex_alive(v)) mesh_.set_point(rm.global_vertex[v], sub.point(v));
   }
   std::vector<index_t> created;
-  s = mesh_.replace_cavity(region, tets, origins, new_points, new_origins, &created, &boundary);
+  // An assembly's zone changes the parts' surfaces (3.7.4): only its faces
+  // with the kept tets must stay.
+  s = assembly_ ? mesh_.replace_boundary_cavity(region, tets, origins, new_points, new_origins, &created)
+                : mesh_.replace_cavity(region, tets, origins, new_points, new_origins, &created, &boundary);
   if (!s) {
     for (index_t v = 0; v < built; ++v) mesh_.set_point(rm.global_vertex[v], previous_position[v]);
     return Status::failure("the adapted region could not be put back (" + s.message + ")");
@@ -319,7 +351,10 @@ Status AdaptSession::advance(AdaptStepReport* report_out) {
       walkers.push_back(v);
       moved.push_back(target.apply(object_rest_[object_index_[v]]));
     }
-    Status p = detect_penetration(mesh_, material_, options_.moving_object, walkers, moved);
+    // An assembly has no space to walk through: the moved surface is
+    // located in the other parts instead.
+    Status p = assembly_ ? check_assembly_overlap(target)
+                         : detect_penetration(mesh_, material_, options_.moving_object, walkers, moved);
     if (p && contact_ && !contact_->shared.empty()) p = check_shared_vertices(target);
     if (!p)
       return Status::failure("step " + std::to_string(next) + " refused: " + p.message + " (earlier steps are kept)");

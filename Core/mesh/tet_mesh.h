@@ -342,6 +342,17 @@ class TetMesh {
                         const std::vector<VertexStencil>& new_point_origins, std::vector<index_t>* created = nullptr,
                         const std::vector<std::array<index_t, 3>>* new_boundary = nullptr);
 
+  /// replace_cavity for a cavity on the domain's boundary (Adapt's assembly
+  /// mode, thesis 3.7.4): the cavity's faces with kept tets must be faces of
+  /// the new tets' boundary; its faces on the domain's boundary may change
+  /// (the new tets' other boundary faces are the domain's boundary there).
+  /// Vertices of the cavity no new tet uses are deleted; the new tets'
+  /// vertices are classified again (a boundary vertex may become inner).
+  Status replace_boundary_cavity(const std::vector<index_t>& old_tets, const std::vector<Tet>& new_tets,
+                                 const std::vector<index_t>& new_origins, const std::vector<Vec3>& new_points,
+                                 const std::vector<VertexStencil>& new_point_origins,
+                                 std::vector<index_t>* created = nullptr);
+
   /// Live tets the last accepted operation created or changed.
   const std::vector<index_t>& touched_tets() const { return touched_; }
 

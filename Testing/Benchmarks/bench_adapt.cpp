@@ -9,7 +9,8 @@
 //               [--rotation-steps=900] [--no-rotation] [--no-peer]
 //               [--peer-steps=10] [--every=36]
 //               [--contact-steps=45] [--contact-peer-steps=3] [--no-contact]
-//               [--contact-only]
+//               [--contact-only] [--assembly-steps=36] [--no-assembly]
+//               [--assembly-only]
 //
 // Prints every --every steps a row (step, vertices, tets, min and mean
 // stretch, region tets, sub-steps, ms), then per case: the median s/step, the
@@ -30,6 +31,14 @@
 // case stops there). Then the median time of each part of a step, and the
 // Gmsh peer re-meshing the cylinder, half tube and box from OpenCASCADE
 // geometry at --contact-peer-steps consecutive steps.
+//
+// Thesis 3.7.4, the assembly mode: a crank and a bearing meshed separately
+// (non-conforming, no space mesh; CrankAssembly::benchmark(), about the
+// thesis' 25k tets), the crank turning 10 degrees per step about its axis
+// for --assembly-steps steps. Each step prints its time and parts, the
+// minimum stretch, the vertices and the contact faces; after each (outside
+// its time) the contact is checked conformal (assembly_conformity: crank
+// faces lying on the bore that are no bearing faces) and the mesh valid.
 #include "adapt/adapt.h"
 #include "mesh/tet_mesh.h"
 #include "quality/check_validity.h"
@@ -161,6 +170,116 @@ CaseResult run_case(const char* name, const testing::MaterialMesh& in, const Rig
   return r;
 }
 
+
+// ---- Thesis 3.7.4: an assembly, no space mesh ------------------------------
+
+struct AssemblyResult {
+  CaseResult base;
+  int conformity_failures = 0, validity_failures = 0, area_failures = 0;
+  std::size_t input_vertices = 0, final_vertices = 0;
+};
+
+AssemblyResult run_assembly_case(const testing::CrankAssembly& g, int steps) {
+  AssemblyResult r;
+  Status st;
+  const auto t0 = std::chrono::steady_clock::now();
+  const testing::MaterialMesh in = testing::make_crank_assembly(g, &st);
+  const double t_make = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!st) {
+    r.base.error = "make_crank_assembly: " + st.message;
+    std::printf("\n3.7.4: %s\n", r.base.error.c_str());
+    return r;
+  }
+  RigidMotion motion;
+  motion.rotation_axis = Vec3::UnitZ();
+  motion.rotation_degrees_per_step = 10;
+  AdaptSession session;
+  const auto t1 = std::chrono::steady_clock::now();
+  Status s = session.init(in.points, in.tets, in.material, motion, {});
+  const double t_init = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  if (!s) {
+    r.base.error = s.message;
+    std::printf("\n3.7.4 crank assembly: AdaptSession::init failed: %s\n", s.message.c_str());
+    return r;
+  }
+  const AdaptStepReport r0 = session.initial_report();
+  r.base.input_min = r0.min_stretch;
+  r.input_vertices = r0.vertices;
+  std::printf("\n3.7.4 crank assembly (no space mesh, non-conforming): r %g, R %g, crank length %g, bearing length "
+              "%g, %d and %d segments; %zu vertices, %zu tets (made in %.1f s), input min stretch %.4f mean %.4f, "
+              "set-up %.3f s\n",
+              g.r, g.R, g.Lc, g.Lb, g.n_crank, g.n_bearing, r0.vertices, r0.tets, t_make, r0.min_stretch,
+              r0.mean_stretch, t_init);
+  std::printf("%5s %9s %9s %8s %8s %8s %9s %9s %8s %8s %8s\n", "step", "vertices", "tets", "min st", "mean st",
+              "contact", "area", "expected", "s", "zone s", "impr s");
+  std::vector<double> times;
+  std::vector<double> part[7];
+  const double edge = std::min(g.crank_edge(), g.bearing_edge());
+  for (int n = 1; n <= steps; ++n) {
+    AdaptStepReport rep;
+    s = session.advance(&rep);
+    if (!s) {
+      r.base.error = s.message;
+      std::printf("STEP %d REFUSED: %s\n", n, s.message.c_str());
+      break;
+    }
+    times.push_back(rep.seconds);
+    const double parts[6] = {rep.seconds_region, rep.seconds_submesh, rep.seconds_embed,
+                             rep.seconds_contact, rep.seconds_improve, rep.seconds_splice};
+    double rest = rep.seconds;
+    for (int k = 0; k < 6; ++k) {
+      part[k].push_back(parts[k]);
+      rest -= parts[k];
+    }
+    part[6].push_back(rest);
+    r.base.min_stretch = std::min(r.base.min_stretch, rep.min_stretch);
+    r.base.drift = std::max(r.base.drift, std::abs(double(rep.vertices) / double(r0.vertices) - 1));
+    r.final_vertices = rep.vertices;
+    const AdaptOutput o = session.output();
+    const testing::AssemblyConformity c = testing::assembly_conformity(o, g.r, 0.1 * edge, 0.05 * edge);
+    const bool valid = check_validity(o.points, o.tets).ok();
+    const bool area_ok = std::abs(c.shared_area - g.contact_area()) <= 0.01 * g.contact_area();
+    r.conformity_failures += c.coincident > 0;
+    r.validity_failures += !valid;
+    r.area_failures += !area_ok;
+    std::printf("%5d %9zu %9zu %8.4f %8.4f %8zu %9.4f %9.4f %8.3f %8.3f %8.3f%s%s%s\n", n, rep.vertices, rep.tets,
+                rep.min_stretch, rep.mean_stretch, c.shared, c.shared_area, g.contact_area(), rep.seconds,
+                rep.seconds_contact, rep.seconds_improve, c.coincident ? "  FAIL non-conformal" : "",
+                valid ? "" : "  FAIL invalid", area_ok ? "" : "  FAIL area");
+    r.base.steps = n;
+    if (std::getenv("FEMORPH_ADAPT_WORST") && rep.min_stretch < 0.07) {
+      std::vector<std::pair<double, std::size_t>> worst;
+      for (std::size_t t = 0; t < o.tets.size(); ++t) {
+        const Tet& T = o.tets[t];
+        worst.emplace_back(tet_stretch(o.points[T[0]], o.points[T[1]], o.points[T[2]], o.points[T[3]]), t);
+      }
+      std::sort(worst.begin(), worst.end());
+      for (std::size_t i = 0; i < 4; ++i) {
+        const Tet& T = o.tets[worst[i].second];
+        std::printf("  worst %.3f material %d:", worst[i].first, o.material[worst[i].second]);
+        for (const index_t v : T) {
+          const Vec3& p = o.points[v];
+          std::printf(" (rho %.4f th %.1f z %.3f)", std::hypot(p.x(), p.y()), std::atan2(p.y(), p.x()) * 180 / kPi,
+                      p.z());
+        }
+        std::printf("\n");
+      }
+    }
+  }
+  r.base.median_step = median(times);
+  if (!times.empty())
+    std::printf("median s/step by part: region %.3f, submesh %.3f, embedding %.3f, contact zone (merge, refill) "
+                "%.3f, improvement %.3f, splice %.3f, rest (overlap check, contact detection, step set-up) %.3f\n",
+                median(part[0]), median(part[1]), median(part[2]), median(part[3]), median(part[4]), median(part[5]),
+                median(part[6]));
+  std::printf("3.7.4 crank assembly: %d of %d steps, median %.3f s/step, min stretch over all steps %.4f (input "
+              "%.4f), vertices %zu -> %zu (largest drift %.2f%%), non-conformal contact in %d steps, contact area "
+              "off by > 1%% in %d steps, invalid mesh in %d steps%s%s\n",
+              r.base.steps, steps, r.base.median_step, r.base.min_stretch, r.base.input_min, r.input_vertices,
+              r.final_vertices, 100 * r.base.drift, r.conformity_failures, r.area_failures, r.validity_failures,
+              r.base.error.empty() ? "" : "; STOPPED: ", r.base.error.c_str());
+  return r;
+}
 
 // ---- Thesis 3.7.3: a cylinder into a half tube, with contact ---------------
 
@@ -410,7 +529,8 @@ double run_peer(const std::string& args) {
 int main(int argc, char** argv) {
   std::array<int, 3> cells{{20, 20, 50}}, object{{3, 5, 1}};
   int steps = 360, rotation_steps = 900, every = 36, peer_steps = 10, contact_steps = 45, contact_peer_steps = 3;
-  bool block = true, rotation = true, peer = true, contact = true;
+  int assembly_steps = 36;
+  bool block = true, rotation = true, peer = true, contact = true, assembly = true;
   for (int i = 1; i < argc; ++i) {
     if (std::strncmp(argv[i], "--cells=", 8) == 0) cells = parse3(argv[i] + 8);
     else if (std::strncmp(argv[i], "--object=", 9) == 0) object = parse3(argv[i] + 9);
@@ -423,12 +543,16 @@ int main(int argc, char** argv) {
     else if (std::strcmp(argv[i], "--no-rotation") == 0) rotation = false;
     else if (std::strcmp(argv[i], "--no-peer") == 0) peer = false;
     else if (std::strcmp(argv[i], "--no-contact") == 0) contact = false;
-    else if (std::strcmp(argv[i], "--contact-only") == 0) block = rotation = false;
+    else if (std::strcmp(argv[i], "--contact-only") == 0) block = rotation = assembly = false;
+    else if (std::strncmp(argv[i], "--assembly-steps=", 17) == 0) assembly_steps = std::atoi(argv[i] + 17);
+    else if (std::strcmp(argv[i], "--no-assembly") == 0) assembly = false;
+    else if (std::strcmp(argv[i], "--assembly-only") == 0) block = rotation = contact = false;
     else {
       std::fprintf(stderr,
                    "usage: %s [--cells=20,20,50] [--object=3,5,1] [--steps=360] [--rotation-steps=900] "
                    "[--every=36] [--peer-steps=10] [--no-rotation] [--no-peer] [--contact-steps=45] "
-                   "[--contact-peer-steps=3] [--no-contact] [--contact-only]\n",
+                   "[--contact-peer-steps=3] [--no-contact] [--contact-only] [--assembly-steps=36] "
+                   "[--no-assembly] [--assembly-only]\n",
                    argv[0]);
       return 2;
     }
@@ -503,9 +627,14 @@ int main(int argc, char** argv) {
     }
   }
 
+  // Thesis 3.7.4: the assembly (no space mesh).
+  AssemblyResult asm_result;
+  assembly = assembly && assembly_steps > 0;
+  if (assembly) asm_result = run_assembly_case(testing::CrankAssembly::benchmark(), assembly_steps);
+
   std::printf("\nsummary (goals: 3.7.2: min stretch >= input's, drift <= 3%% (rotation: 5%%), <= 20 ms/step; "
               "3.7.3: min stretch >= 0.1 (thesis 0.056), drift <= 10%%, contact area within 1%%, <= 0.5 s/step "
-              "(thesis 4.5))\n");
+              "(thesis 4.5); 3.7.4: conformal contact every step, <= 0.5 s/step (thesis 4.6))\n");
   std::printf("%-18s %10s %12s %10s %9s %14s\n", "case", "ms/step", "min stretch", "input min", "drift %",
               "kept/step %");
   if (block)
@@ -528,7 +657,20 @@ int main(int argc, char** argv) {
       std::printf("%-18s %10.2f %12s %10s %9s %14s   Adapt %.1fx faster per step\n", "gmsh re-mesh (3.7.3)",
                   1e3 * contact_peer_step, "(above)", "", "", "(above)", contact_peer_step / k.median_step);
   }
+  if (assembly) {
+    const CaseResult& k = asm_result.base;
+    const bool met = k.error.empty() && asm_result.conformity_failures == 0 && asm_result.validity_failures == 0 &&
+                     k.median_step <= 0.5;
+    std::printf("%-18s %10.2f %12.4f %10.4f %9.2f %14s   %d/%d steps, vertices %zu -> %zu, non-conformal contact %d "
+                "steps, contact area > 1%% off %d steps, invalid %d steps: %s%s%s\n",
+                "crank assembly", 1e3 * k.median_step, k.min_stretch, k.input_min, 100 * k.drift, "-", k.steps,
+                assembly_steps, asm_result.input_vertices, asm_result.final_vertices, asm_result.conformity_failures,
+                asm_result.area_failures, asm_result.validity_failures, met ? "met" : "NOT met",
+                k.error.empty() ? "" : "; STOPPED: ", k.error.c_str());
+  }
+  const bool assembly_ok = !assembly || (asm_result.base.error.empty() && asm_result.conformity_failures == 0 &&
+                                         asm_result.validity_failures == 0);
   const bool contact_ok = !contact || (c.base.error.empty() && c.area_failures == 0 && c.conformity_failures == 0 &&
                                        c.validity_failures == 0);
-  return a.error.empty() && b.error.empty() && contact_ok ? 0 : 1;
+  return a.error.empty() && b.error.empty() && contact_ok && assembly_ok ? 0 : 1;
 }

@@ -4,10 +4,16 @@
 // XML: Float64 points, positive VTK_TETRA cells, cell array MaterialId
 // Int32: 0 space, 1 the cylinder, 2 the half tube) and a .json beside it
 // with the geometry, the motion and the contact areas per step.
+// With --assembly, thesis 3.7.4's kind of case instead
+// (test_adapt_meshes.h's make_crank_assembly): a crank (MaterialId 1) in a
+// bearing's bore (MaterialId 2), meshed separately, non-conforming, no
+// space mesh (Data/adapt/assembly_crank.vtu).
 //
 //   make_adapt_case OUT.vtu [--r R] [--R R] [--Lc L] [--Lt L] [--gap G]
 //                   [--n-theta N] [--margin M] [--space-edge E] [--steps S]
 //                   [--benchmark]
+//   make_adapt_case OUT.vtu --assembly [--r R] [--R R] [--Lc L] [--Lb L]
+//                   [--n-crank N] [--n-bearing N] [--benchmark]
 //
 // Deterministic (TetGen is): the same options give the same bytes.
 #include "quality/tet_quality.h"
@@ -48,17 +54,108 @@ bool write_vtu(const std::string& path, const testing::MaterialMesh& m) {
   return std::fclose(f) == 0;
 }
 
+std::string json_path(const std::string& out) {
+  return out.substr(0, out.size() - (out.size() > 4 && out.substr(out.size() - 4) == ".vtu" ? 4 : 0)) + ".json";
+}
+
+// Thesis 3.7.4's kind of case: the crank turns 10 degrees per step about
+// its axis (z), 36 steps.
+int make_assembly(const std::string& out, int argc, char** argv) {
+  testing::CrankAssembly g;
+  std::string command = "make_adapt_case " + out + " --assembly";
+  for (int i = 3; i < argc; ++i) {
+    const std::string a = argv[i];
+    command += " " + a;
+    if (a == "--benchmark") {
+      g = testing::CrankAssembly::benchmark();
+      continue;
+    }
+    if (i + 1 >= argc) {
+      std::fprintf(stderr, "%s needs a value\n", a.c_str());
+      return 2;
+    }
+    const char* v = argv[++i];
+    command += std::string(" ") + v;
+    if (a == "--r") g.r = std::atof(v);
+    else if (a == "--R") g.R = std::atof(v);
+    else if (a == "--Lc") g.Lc = std::atof(v);
+    else if (a == "--Lb") g.Lb = std::atof(v);
+    else if (a == "--n-crank") g.n_crank = std::atoi(v);
+    else if (a == "--n-bearing") g.n_bearing = std::atoi(v);
+    else {
+      std::fprintf(stderr, "unknown option %s\n", a.c_str());
+      return 2;
+    }
+  }
+  Status status;
+  const testing::MaterialMesh m = testing::make_crank_assembly(g, &status);
+  if (!status) {
+    std::fprintf(stderr, "%s\n", status.message.c_str());
+    return 1;
+  }
+  if (!write_vtu(out, m)) {
+    std::fprintf(stderr, "cannot write %s\n", out.c_str());
+    return 1;
+  }
+  std::size_t count[3] = {0, 0, 0};
+  double volume[3] = {0, 0, 0}, smin = 1, ssum = 0;
+  for (std::size_t t = 0; t < m.tets.size(); ++t) {
+    const Tet& T = m.tets[t];
+    const Vec3 &a = m.points[T[0]], &b = m.points[T[1]], &c = m.points[T[2]], &d = m.points[T[3]];
+    ++count[m.material[t]];
+    volume[m.material[t]] += (b - a).dot((c - a).cross(d - a)) / 6;
+    const double s = tet_stretch(a, b, c, d);
+    smin = std::min(smin, s);
+    ssum += s;
+  }
+  FILE* f = std::fopen(json_path(out).c_str(), "w");
+  if (!f) {
+    std::fprintf(stderr, "cannot write %s\n", json_path(out).c_str());
+    return 1;
+  }
+  std::fprintf(f, "{\n \"description\": \"thesis 3.7.4: an assembly without space mesh, parts meshed separately "
+                  "(non-conforming): a crank shaft (MaterialId 1, moving: a cylinder about the z axis, its polygon "
+                  "turned by half a segment) lying in the bore of a bearing (MaterialId 2, fixed: a half tube, y <= "
+                  "0); each meshed by TetGen -pYq from an exact surface triangulation of its own spacing\",\n");
+  std::fprintf(f, " \"r\": %.17g,\n \"R\": %.17g,\n \"Lc\": %.17g,\n \"Lb\": %.17g,\n", g.r, g.R, g.Lc, g.Lb);
+  std::fprintf(f, " \"n_crank\": %d,\n \"n_bearing\": %d,\n \"crank_edge\": %.17g,\n \"bearing_edge\": %.17g,\n",
+               g.n_crank, g.n_bearing, g.crank_edge(), g.bearing_edge());
+  std::fprintf(f, " \"crank\": {\"material_id\": 1, \"z\": [%.17g, %.17g]},\n", -0.5 * g.Lc, 0.5 * g.Lc);
+  std::fprintf(f, " \"bearing\": {\"material_id\": 2, \"z\": [%.17g, %.17g]},\n", -0.5 * g.Lb, 0.5 * g.Lb);
+  std::fprintf(f, " \"object\": {\"material_id\": 1, \"center\": [0, 0, 0]},\n");
+  std::fprintf(f, " \"contact_materials\": [1, 2],\n \"space_material_id\": null,\n");
+  std::fprintf(f, " \"motion_3_7_4\": {\"translation_per_step\": [0, 0, 0], \"rotation_axis\": [0, 0, 1], "
+                  "\"rotation_center\": [0, 0, 0], \"rotation_degrees_per_step\": 10, \"steps\": 36},\n");
+  std::fprintf(f, " \"contact_area\": {\"note\": \"once conformal: the bore's half polygon, n_bearing / 2 chords "
+                  "over Lb\", \"discrete\": %.17g, \"exact\": %.17g},\n",
+               g.contact_area(), kPi * g.r * g.Lb);
+  std::fprintf(f, " \"counts\": {\"points\": %zu, \"tets\": %zu, \"crank_tets\": %zu, \"bearing_tets\": %zu},\n",
+               m.points.size(), m.tets.size(), count[1], count[2]);
+  std::fprintf(f, " \"volume\": {\"crank\": %.17g, \"bearing\": %.17g},\n", volume[1], volume[2]);
+  std::fprintf(f, " \"quality\": {\"stretch_min\": %.17g, \"stretch_mean\": %.17g},\n", smin,
+               ssum / static_cast<double>(m.tets.size()));
+  std::fprintf(f, " \"orientation\": \"VTK_TETRA, (p1-p0).((p2-p0)x(p3-p0)) > 0 for every tet\",\n");
+  std::fprintf(f, " \"generator\": \"%s\"\n}\n", command.c_str());
+  std::fclose(f);
+  std::printf("%s: %zu points, %zu tets (crank %zu, bearing %zu), stretch min %.3f mean %.3f\n", out.c_str(),
+              m.points.size(), m.tets.size(), count[1], count[2], smin, ssum / static_cast<double>(m.tets.size()));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2 || argv[1][0] == '-') {
     std::fprintf(stderr,
                  "usage: %s OUT.vtu [--r R] [--R R] [--Lc L] [--Lt L] [--gap G] [--n-theta N] "
-                 "[--margin M] [--space-edge E] [--steps S] [--benchmark]\n",
-                 argv[0]);
+                 "[--margin M] [--space-edge E] [--steps S] [--benchmark]\n"
+                 "       %s OUT.vtu --assembly [--r R] [--R R] [--Lc L] [--Lb L] [--n-crank N] [--n-bearing N] "
+                 "[--benchmark]\n",
+                 argv[0], argv[0]);
     return 2;
   }
   const std::string out = argv[1];
+  if (argc > 2 && std::strcmp(argv[2], "--assembly") == 0) return make_assembly(out, argc, argv);
   testing::CylinderHalfTube g;
   int steps = -1;
   std::string command = "make_adapt_case " + out;
@@ -119,7 +216,7 @@ int main(int argc, char** argv) {
     smin = std::min(smin, s);
     ssum += s;
   }
-  const std::string json = out.substr(0, out.size() - (out.size() > 4 && out.substr(out.size() - 4) == ".vtu" ? 4 : 0)) + ".json";
+  const std::string json = json_path(out);
   FILE* f = std::fopen(json.c_str(), "w");
   if (!f) {
     std::fprintf(stderr, "cannot write %s\n", json.c_str());

@@ -9,7 +9,10 @@
 
 #include "adapt/adapt.h"
 #include "adapt/tetgen_plc.h"
+#include "geometry/discrete_surface.h"
 #include "common/types.h"
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
@@ -329,6 +332,49 @@ inline void half_annulus(SurfaceBuilder& s, double r, double R, int n_in, int n_
   }
 }
 
+/// A closed cylinder about the z axis: radius r, n segments of the circle,
+/// z in [z0, z1]; the side in n x n_z quads, two disk caps.
+inline void cylinder_surface(SurfaceBuilder& cyl, double r, int n, double z0, double z1, double h) {
+  const int nzc = divisions(z1 - z0, h);
+  const auto zc = [&](int l) { return l == nzc ? z1 : z0 + (z1 - z0) * l / nzc; };
+  for (int l = 0; l < nzc; ++l)
+    for (int k = 0; k < n; ++k)
+      cyl.quad(cyl.point(polar(r, k, n, zc(l))), cyl.point(polar(r, k + 1, n, zc(l))),
+               cyl.point(polar(r, k + 1, n, zc(l + 1))), cyl.point(polar(r, k, n, zc(l + 1))), (k + l) % 2);
+  disk(cyl, r, n, z0, h);
+  disk(cyl, r, n, z1, h);
+}
+
+/// A closed half tube (y <= 0) about the z axis, z in [z0, z1]: inner and
+/// outer half cylinders (radii r < R, nh and no segments of the half
+/// circles), the two flat cut faces at y = 0, the two half-annulus ends.
+inline void half_tube_surface(SurfaceBuilder& tube, double r, double R, int nh, int no, double z0, double z1,
+                              double h) {
+  const int n = 2 * nh;
+  const int nzt = divisions(z1 - z0, h);
+  const auto zt = [&](int l) { return l == nzt ? z1 : z0 + (z1 - z0) * l / nzt; };
+  for (int l = 0; l < nzt; ++l) {
+    for (int k = 0; k < nh; ++k)  // theta = pi + pi k / nh
+      tube.quad(tube.point(polar(r, nh + k, n, zt(l))), tube.point(polar(r, nh + k + 1, n, zt(l))),
+                tube.point(polar(r, nh + k + 1, n, zt(l + 1))), tube.point(polar(r, nh + k, n, zt(l + 1))),
+                (k + l) % 2);
+    for (int k = 0; k < no; ++k)
+      tube.quad(tube.point(polar(R, no + k, 2 * no, zt(l))), tube.point(polar(R, no + k + 1, 2 * no, zt(l))),
+                tube.point(polar(R, no + k + 1, 2 * no, zt(l + 1))), tube.point(polar(R, no + k, 2 * no, zt(l + 1))),
+                (k + l) % 2);
+    const int mr = divisions(R - r, h);
+    for (int side = 0; side < 2; ++side)  // x < 0 (theta = pi), x > 0 (theta = 2 pi)
+      for (int j = 0; j < mr; ++j) {
+        const double sign = side ? 1 : -1;
+        const double a = sign * (r + (R - r) * j / mr), b = sign * (j + 1 == mr ? R : r + (R - r) * (j + 1) / mr);
+        tube.quad(tube.point(Vec3(a, 0, zt(l))), tube.point(Vec3(b, 0, zt(l))), tube.point(Vec3(b, 0, zt(l + 1))),
+                  tube.point(Vec3(a, 0, zt(l + 1))), (j + l) % 2);
+      }
+  }
+  half_annulus(tube, r, R, nh, no, z0, h);
+  half_annulus(tube, r, R, nh, no, z1, h);
+}
+
 }  // namespace detail
 
 /// The 3.7.3 case as one conformal tet mesh: material 1 the cylinder, 2 the
@@ -351,45 +397,13 @@ inline MaterialMesh make_cylinder_half_tube(const CylinderHalfTube& g = {}, Stat
   const double h = g.edge();
   const int n = g.n_theta, nh = g.n_half(), no = g.n_outer_half();
 
-  // The cylinder: side n_theta x n_z quads, two disk caps.
   detail::SurfaceBuilder cyl;
   cyl.quantum = 1e-9 * h;
   const double z0 = -g.Lc - g.gap, z1 = -g.gap;
-  const int nzc = divisions(g.Lc, h);
-  const auto zc = [&](int l) { return l == nzc ? z1 : z0 + g.Lc * l / nzc; };
-  for (int l = 0; l < nzc; ++l)
-    for (int k = 0; k < n; ++k)
-      cyl.quad(cyl.point(polar(g.r, k, n, zc(l))), cyl.point(polar(g.r, k + 1, n, zc(l))),
-               cyl.point(polar(g.r, k + 1, n, zc(l + 1))), cyl.point(polar(g.r, k, n, zc(l + 1))), (k + l) % 2);
-  detail::disk(cyl, g.r, n, z0, h);
-  detail::disk(cyl, g.r, n, z1, h);
-
-  // The half tube (y <= 0): inner and outer half cylinders, the two flat
-  // cut faces at y = 0, the two half-annulus ends.
+  detail::cylinder_surface(cyl, g.r, n, z0, z1, h);
   detail::SurfaceBuilder tube;
   tube.quantum = cyl.quantum;
-  const int nzt = divisions(g.Lt, h);
-  const auto zt = [&](int l) { return l == nzt ? g.Lt : g.Lt * l / nzt; };
-  for (int l = 0; l < nzt; ++l) {
-    for (int k = 0; k < nh; ++k)  // theta = pi + pi k / nh: the cylinder's angles n_half + k
-      tube.quad(tube.point(polar(g.r, nh + k, n, zt(l))), tube.point(polar(g.r, nh + k + 1, n, zt(l))),
-                tube.point(polar(g.r, nh + k + 1, n, zt(l + 1))), tube.point(polar(g.r, nh + k, n, zt(l + 1))),
-                (k + l) % 2);
-    for (int k = 0; k < no; ++k)
-      tube.quad(tube.point(polar(g.R, no + k, 2 * no, zt(l))), tube.point(polar(g.R, no + k + 1, 2 * no, zt(l))),
-                tube.point(polar(g.R, no + k + 1, 2 * no, zt(l + 1))),
-                tube.point(polar(g.R, no + k, 2 * no, zt(l + 1))), (k + l) % 2);
-    const int mr = divisions(g.R - g.r, h);
-    for (int side = 0; side < 2; ++side)  // x < 0 (theta = pi), x > 0 (theta = 2 pi)
-      for (int j = 0; j < mr; ++j) {
-        const double sign = side ? 1 : -1;
-        const double a = sign * (g.r + (g.R - g.r) * j / mr), b = sign * (j + 1 == mr ? g.R : g.r + (g.R - g.r) * (j + 1) / mr);
-        tube.quad(tube.point(Vec3(a, 0, zt(l))), tube.point(Vec3(b, 0, zt(l))), tube.point(Vec3(b, 0, zt(l + 1))),
-                  tube.point(Vec3(a, 0, zt(l + 1))), (j + l) % 2);
-      }
-  }
-  detail::half_annulus(tube, g.r, g.R, nh, no, 0.0, h);
-  detail::half_annulus(tube, g.r, g.R, nh, no, g.Lt, h);
+  detail::half_tube_surface(tube, g.r, g.R, nh, no, 0.0, g.Lt, h);
 
   std::vector<Vec3> cp, tp;
   std::vector<Tet> ct, tt;
@@ -415,6 +429,128 @@ inline MaterialMesh make_cylinder_half_tube(const CylinderHalfTube& g = {}, Stat
   m.object_hi = Vec3(g.r, g.r, z1);
   if (status) *status = Status::success();
   return m;
+}
+
+/// Thesis 3.7.4's kind of input: an assembly of two parts meshed
+/// separately, no space mesh. A crank shaft (material 1: a cylinder of
+/// radius r about the z axis, z in [-Lc/2, Lc/2], n_crank segments, its
+/// polygon turned by half a segment) lies in the bore of a bearing (material
+/// 2: a half tube, y <= 0, radii r to R, z in [-Lb/2, Lb/2], n_bearing
+/// segments of the full circle). Both are meshed by TetGen -pYq from exact
+/// surface triangulations of their own spacing: the touching surfaces (the
+/// crank's lower half, the bore) are non-conforming; they share no vertex.
+/// The crank turns about its axis (the z axis).
+struct CrankAssembly {
+  double r = 1.0;       ///< the crank's radius = the bore's
+  double R = 1.8;       ///< the bearing's outer radius
+  double Lc = 6.0;      ///< the crank's length (> Lb: it passes through)
+  double Lb = 3.0;      ///< the bearing's length
+  int n_crank = 28;     ///< segments of the crank's circle
+  int n_bearing = 20;   ///< segments of the bore's full circle (even)
+
+  double crank_edge() const { return 2 * r * std::sin(kPi / n_crank); }
+  double bearing_edge() const { return 2 * r * std::sin(kPi / n_bearing); }
+  /// The faces between the parts once conformal: the bore's half polygon
+  /// (n_bearing / 2 chords) over Lb.
+  double contact_area() const { return n_bearing / 2 * bearing_edge() * Lb; }
+  /// About thesis 3.7.4's size (6,694 vertices, 25,320 tets): 6,579
+  /// vertices, 24,490 tets.
+  static CrankAssembly benchmark() {
+    CrankAssembly g;
+    g.Lc = 5;
+    g.n_crank = 60;
+    g.n_bearing = 40;
+    return g;
+  }
+};
+
+inline MaterialMesh make_crank_assembly(const CrankAssembly& g = {}, Status* status = nullptr) {
+  const auto fail = [&](const std::string& why) {
+    if (status) *status = Status::failure(why);
+    return MaterialMesh{};
+  };
+  if (g.n_crank < 6 || g.n_bearing < 4 || g.n_bearing % 2 || !(g.r > 0) || !(g.R > g.r) || !(g.Lc > g.Lb) ||
+      !(g.Lb > 0))
+    return fail("make_crank_assembly: need n_crank >= 6, n_bearing even >= 4, 0 < r < R, Lc > Lb > 0");
+  detail::SurfaceBuilder crank, bearing;
+  const double hc = g.crank_edge(), hb = g.bearing_edge();
+  crank.quantum = bearing.quantum = 1e-9 * std::min(hc, hb);
+  detail::cylinder_surface(crank, g.r, g.n_crank, -0.5 * g.Lc, 0.5 * g.Lc, hc);
+  const int nh = g.n_bearing / 2, no = std::max(nh, static_cast<int>(std::lround(nh * g.R / g.r)));
+  detail::half_tube_surface(bearing, g.r, g.R, nh, no, -0.5 * g.Lb, 0.5 * g.Lb, hb);
+  std::vector<Vec3> cp, bp;
+  std::vector<Tet> ct, bt;
+  Status s = detail::tetrahedralize_surface(crank, cp, ct);
+  if (!s) return fail(s.message + " (crank)");
+  s = detail::tetrahedralize_surface(bearing, bp, bt);
+  if (!s) return fail(s.message + " (bearing)");
+  // The crank's polygon turned by half a segment: no vertex of it on the
+  // bore's edges (y = 0).
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(kPi / g.n_crank, Vec3::UnitZ()).toRotationMatrix();
+  MaterialMesh m;
+  for (const Vec3& p : cp) m.points.push_back(turn * p);
+  m.tets = ct;
+  m.material.assign(ct.size(), 1);
+  const index_t offset = static_cast<index_t>(cp.size());
+  m.points.insert(m.points.end(), bp.begin(), bp.end());
+  for (Tet t : bt) {
+    for (index_t& v : t) v += offset;
+    m.tets.push_back(t);
+    m.material.push_back(2);
+  }
+  m.object_lo = Vec3(-g.r, -g.r, -0.5 * g.Lc);
+  m.object_hi = Vec3(g.r, g.r, 0.5 * g.Lc);
+  if (status) *status = Status::success();
+  return m;
+}
+
+using FaceKey = std::array<index_t, 3>;
+
+inline FaceKey sorted_face(const Tet& t, int f) {
+  FaceKey k{{t[kTetFace[f][0]], t[kTetFace[f][1]], t[kTetFace[f][2]]}};
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+struct AssemblyConformity {
+  std::size_t shared = 0;      ///< faces of one tet of each part
+  double shared_area = 0;
+  std::size_t coincident = 0;  ///< boundary faces of part 1 lying on a boundary face of part 2
+};
+
+/// The contact of an assembly output (materials 1 and 2, an independent
+/// check for 3.7.4): faces between the parts by vertex ids; and boundary faces of part 1 (near
+/// the bore: within `reach` of radius r, y <= reach) whose centroid lies on a
+/// boundary face of part 2 (within `tol`): a contact left non-conforming.
+inline AssemblyConformity assembly_conformity(const AdaptOutput& out, double r, double reach, double tol) {
+  AssemblyConformity c;
+  std::map<FaceKey, std::vector<std::pair<std::size_t, int>>> faces;
+  for (std::size_t t = 0; t < out.tets.size(); ++t)
+    for (int f = 0; f < 4; ++f) faces[sorted_face(out.tets[t], f)].push_back({t, f});
+  std::vector<std::array<Vec3, 3>> crank, bearing;
+  for (const auto& [k, users] : faces) {
+    const Vec3 &a = out.points[k[0]], &b = out.points[k[1]], &d = out.points[k[2]];
+    if (users.size() == 2) {
+      const int m0 = out.material[users[0].first], m1 = out.material[users[1].first];
+      if (std::min(m0, m1) == 1 && std::max(m0, m1) == 2) {
+        ++c.shared;
+        c.shared_area += 0.5 * (b - a).cross(d - a).norm();
+      }
+      continue;
+    }
+    const Vec3 g = (a + b + d) / 3;
+    if (std::abs(std::hypot(g.x(), g.y()) - r) > reach || g.y() > reach) continue;
+    (out.material[users[0].first] == 1 ? crank : bearing).push_back({{a, b, d}});
+  }
+  for (const auto& f : crank) {
+    const Vec3 g = (f[0] + f[1] + f[2]) / 3;
+    for (const auto& h : bearing)
+      if ((closest_point_on_triangle(g, h[0], h[1], h[2]) - g).norm() < tol) {
+        ++c.coincident;
+        break;
+      }
+  }
+  return c;
 }
 
 }  // namespace testing

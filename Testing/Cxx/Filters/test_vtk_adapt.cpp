@@ -25,6 +25,7 @@
 #include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkUnstructuredGrid.h"
+#include "vtkXMLUnstructuredGridReader.h"
 
 #include <gtest/gtest.h>
 
@@ -799,4 +800,63 @@ TEST(Adapt, XmlDefaultsEqualCxxDefaults)
   {
     EXPECT_NE(help.find(name), std::string::npos) << name;
   }
+}
+
+// The assembly mode (thesis 3.7.4): Data/adapt/assembly_crank.vtu has no
+// space cell (no material 0), its crank and bearing meshed separately; the
+// filter takes it, and every step's crank-bearing faces (counted here by
+// their point ids) are the Steps table's ContactFaces, none in the input.
+TEST(AdaptAssembly, CrankInBearingFromData)
+{
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName((std::string(FEMORPH_DATA_DIR) + "/adapt/assembly_crank.vtu").c_str());
+  reader->Update();
+  vtkUnstructuredGrid* input = reader->GetOutput();
+  ASSERT_GT(input->GetNumberOfCells(), 0);
+  vtkNew<vtkFEMorphAdapt> filter;
+  vtkNew<MessageRecorder> messages;
+  messages->Observe(filter);
+  filter->SetInputData(input);
+  filter->SetMovingObject(1);
+  filter->SetRotationAxis(0, 0, 1);
+  filter->SetRotationCenter(0, 0, 0);
+  filter->SetRotationAnglePerStep(10);
+  filter->SetNumberOfSteps(3);
+  const auto contactFaces = [](vtkUnstructuredGrid* mesh)
+  {
+    vtkDataArray* material = mesh->GetCellData()->GetArray("MaterialId");
+    std::map<std::array<vtkIdType, 3>, std::vector<int>> faces;
+    for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+    {
+      vtkIdType npts = 0;
+      const vtkIdType* pts = nullptr;
+      mesh->GetCellPoints(c, npts, pts);
+      for (int f = 0; f < 4; ++f)
+      {
+        std::array<vtkIdType, 3> key{ { pts[(f + 1) % 4], pts[(f + 2) % 4], pts[(f + 3) % 4] } };
+        std::sort(key.begin(), key.end());
+        faces[key].push_back(static_cast<int>(material->GetComponent(c, 0)));
+      }
+    }
+    vtkIdType n = 0;
+    for (const auto& entry : faces)
+    {
+      const std::vector<int>& m = entry.second;
+      n += m.size() == 2 && std::min(m[0], m[1]) == 1 && std::max(m[0], m[1]) == 2;
+    }
+    return n;
+  };
+  ASSERT_EQ(RunAt(filter, 0), 1);
+  EXPECT_EQ(contactFaces(filter->GetMeshOutput()), 0);
+  for (int n = 1; n <= 3; ++n)
+  {
+    ASSERT_EQ(RunAt(filter, n), 1) << messages->AllErrors();
+    vtkUnstructuredGrid* mesh = filter->GetMeshOutput();
+    const vtkIdType faces = contactFaces(mesh);
+    EXPECT_GT(faces, 0) << "step " << n;
+    vtkTable* steps = filter->GetStepsOutput();
+    ASSERT_EQ(steps->GetNumberOfRows(), n + 1);
+    EXPECT_EQ(steps->GetColumnByName("ContactFaces")->GetVariantValue(n).ToLongLong(), faces) << "step " << n;
+  }
+  EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
 }
