@@ -172,18 +172,18 @@ double corner_jacobian(const Vec3* x, int i, const int* j) {
   return lengths > 0 ? e1.dot(e2.cross(e3)) / lengths : 0.0;
 }
 
-// Eq. 4.2 at every corner of a cell of N nodes. Scale-free as TetEdges:
+// Eq. 4.2 at the N evaluated corners of a cell of `nodes` nodes. Scale-free as TetEdges:
 // a cell whose coordinates all lie below 2^-200 or reach beyond 2^200 in
 // magnitude is scaled by a power of two first (its edges cannot be shorter
 // than its coordinates' precision, so the largest coordinate bounds them).
 template <int N>
-int corner_jacobians(const Vec3* x, const int (&table)[N][3], double* corners) {
+int corner_jacobians(const Vec3* x, int nodes, const int (&table)[N][3], double* corners) {
   double largest = 0;
-  for (int i = 0; i < N; ++i) largest = std::max(largest, x[i].cwiseAbs().maxCoeff());
+  for (int i = 0; i < nodes; ++i) largest = std::max(largest, x[i].cwiseAbs().maxCoeff());
   if (largest > 0 && std::isfinite(largest) && (largest < 0x1p-200 || largest > 0x1p200)) {
     const double s = power_of_two_scale(largest);
-    Vec3 scaled[N];
-    for (int i = 0; i < N; ++i) scaled[i] = x[i] * s;
+    Vec3 scaled[8];  // every node, the pyramid's apex too (N counts corners)
+    for (int i = 0; i < nodes; ++i) scaled[i] = x[i] * s;
     for (int i = 0; i < N; ++i) corners[i] = corner_jacobian(scaled, i, table[i]);
     return N;
   }
@@ -223,9 +223,9 @@ int scaled_jacobian_corners(CellKind kind, const Vec3* points, double* corners) 
       tet_corner_jacobians(e, e.det(), corners);
       return 4;
     }
-    case CellKind::Pyramid: return corner_jacobians(points, kPyramidCorners, corners);
-    case CellKind::Wedge: return corner_jacobians(points, kWedgeCorners, corners);
-    case CellKind::Hexahedron: return corner_jacobians(points, kHexCorners, corners);
+    case CellKind::Pyramid: return corner_jacobians(points, 5, kPyramidCorners, corners);
+    case CellKind::Wedge: return corner_jacobians(points, 6, kWedgeCorners, corners);
+    case CellKind::Hexahedron: return corner_jacobians(points, 8, kHexCorners, corners);
   }
   return 0;
 }

@@ -442,6 +442,11 @@ TEST(TetQuality, ScaleFreeFrom1eMinus300To1e300) {
     for (Vec3& p : x) p *= scale;
     const std::vector<double> q = corners(CellKind::Hexahedron, x);
     for (int i = 0; i < 8; ++i) EXPECT_NEAR(q[i], hex0[i], 1e-12);
+    // A pyramid: its apex (node 4) is scaled too.
+    std::vector<Vec3> pyramid = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(0.5, 0.5, 1)};
+    const double pyramid0 = min_scaled_jacobian(CellKind::Pyramid, pyramid.data());
+    for (Vec3& p : pyramid) p *= scale;
+    EXPECT_NEAR(min_scaled_jacobian(CellKind::Pyramid, pyramid.data()), pyramid0, 1e-12);
     // A flat tet stays flat at every scale.
     const TetPoints flat = {Vec3(0, 0, 0) * scale, Vec3(1, 0, 0) * scale, Vec3(0, 1, 0) * scale,
                             Vec3(1, 1, 0) * scale};
