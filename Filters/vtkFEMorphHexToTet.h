@@ -56,6 +56,16 @@
  * naming how many and which cells, and the output is empty, unless
  * AllowInverted is on: then it warns and marks them in `Inverted`.
  *
+ * Valid cells: FEMorph has one definition, shared with FEMorph Mesh Quality's
+ * `Invalid` flag (Core/quality/is_valid_cell.h): a cell is valid when every
+ * tetrahedron over four of its nodes that are not coplanar in the reference
+ * cell (58 for a hexahedron, 12 for a wedge, 4 for a pyramid) has positive
+ * volume. A valid cell never gives an inverted tetrahedron here, whatever the
+ * diagonals; a cell reported inverted is always Invalid in Mesh Quality,
+ * while an Invalid cell may split positively with the diagonals it gets. The
+ * corner scaled Jacobian is a weaker test: a hexahedron whose top face is
+ * turned by 90 degrees has 0.707 at every corner but is invalid.
+ *
  * The input is never modified.
  *
  * @sa vtkFEMorphMeshQuality (to check the result), vtkTetrahedralize

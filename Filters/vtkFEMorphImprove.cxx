@@ -112,7 +112,7 @@ void AddImproveSummary(vtkFieldData* fd, const femorph::PhasedOdtStats& stats, b
       { "MovedVertices", d(stats.moved_vertices) }, { "BelowFloor", d(stats.below_floor) },
       { "BelowFloorAllBoundary", d(stats.below_floor_on_boundary) },
       { "TetsBefore", d(stats.tets_before) }, { "TetsAfter", d(stats.tets_after) },
-      { "LeftAsItWas", stats.skipped ? 1.0 : 0.0 } });
+      { "LeftAsItWas", stats.skipped ? 1.0 : 0.0 }, { "KeptInput", stats.kept_input ? 1.0 : 0.0 } });
   Filter::AddSummary(fd, "ImproveTimes",
     { { "Segmentation", times.Segmentation }, { "Curves", stats.phase_seconds[0] },
       { "Surfaces", stats.phase_seconds[1] }, { "Volume", stats.phase_seconds[2] },
@@ -391,6 +391,9 @@ bool vtkFEMorphImprove::Execute(
   po.fix_boundary = !haveSegmentation;
   po.trace_quality = this->TraceQuality != 0;
   po.poor_elements_only = this->PoorElementsOnly != 0;
+  // Without a Reference the density target is the input's own: a mesh at
+  // its own density must not come out with a lower minimum (issue 29).
+  po.keep_input_minimum = !useReference;
   po.progress = this->ProgressRange(0.05, 0.95);
   const double preparationSeconds = SecondsSince(start) - segmentationSeconds;
   const femorph::PhasedOdtStats stats = femorph::phased_odt(mesh, geometry, target.view(), po);
@@ -398,6 +401,19 @@ bool vtkFEMorphImprove::Execute(
   if (this->WasAborted())
   {
     return true;
+  }
+
+  if (stats.kept_input)
+  {
+    std::ostringstream os;
+    os << "the mesh is output unchanged: the improvement would have lowered the minimum stretch from "
+       << std::round(1000 * stats.min_stretch_before) / 1000 << " to "
+       << std::round(1000 * stats.min_stretch_rejected) / 1000 << ", below "
+       << (useReference ? "the input's minimum or Quality Floor, whichever is lower"
+                        : "the input's minimum (without a Reference the target density is the input's own, "
+                          "so a lower minimum buys nothing)")
+       << ". KeptInput is 1 in ImproveCounts.";
+    this->Warn(os.str());
   }
 
   // Inverted tets no operation could repair.

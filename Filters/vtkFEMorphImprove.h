@@ -54,7 +54,10 @@
  * the mesh needed nothing -- no inverted tetrahedron, every stretch at
  * QualityFloor or more, no edge beyond the density thresholds, every curved
  * region within its acceptable error --
- * and is output unchanged), `ImproveTimes` (seconds: segmentation, curves,
+ * and is output unchanged, KeptInput: 1 when the result's minimum stretch
+ * fell below min(the input's minimum, QualityFloor) -- without a Reference,
+ * below the input's minimum -- and the input is output unchanged instead,
+ * with a warning), `ImproveTimes` (seconds: segmentation, curves,
  * surfaces, volume, total), `ImproveStepTimes` (the same time by step:
  * preparation, degenerate and inverted removal, density control, accuracy
  * control, smoothing, flips, finishing, output); with TraceQuality,

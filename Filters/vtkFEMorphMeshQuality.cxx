@@ -13,6 +13,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "geometry/predicates.h"
+#include "quality/is_valid_cell.h"
 #include "quality/tet_quality.h"
 
 #include <algorithm>
@@ -100,9 +101,18 @@ bool vtkFEMorphMeshQuality::Execute(
   inverted->SetName("Inverted");
   inverted->SetNumberOfTuples(numCells);
   inverted->Fill(0);
+  // FEMorph's one definition of a valid cell (Core/quality/is_valid_cell.h),
+  // the one Hex To Tet's inverted tets follow: stricter than the scaled
+  // Jacobian's corners (issue 29: a hexahedron with its top face turned by
+  // 90 degrees has ScaledJacobian 0.707 and is Invalid).
+  vtkNew<vtkUnsignedCharArray> invalid;
+  invalid->SetName("Invalid");
+  invalid->SetNumberOfTuples(numCells);
+  invalid->Fill(0);
 
   Summary stretchSummary, jacobianSummary, minDihedralSummary, maxDihedralSummary;
-  vtkIdType invertedCount = 0, invertedTets = 0, zeroVolumeCount = 0, belowThresholdCount = 0;
+  vtkIdType invertedCount = 0, invertedTets = 0, zeroVolumeCount = 0, belowThresholdCount = 0,
+            invalidCount = 0;
   std::array<vtkIdType, 4> kindCounts{};
 
   std::vector<femorph::Tet> chunkTets;
@@ -142,6 +152,11 @@ bool vtkFEMorphMeshQuality::Execute(
         inverted->SetValue(c, 1);
         ++invertedCount;
       }
+      if (!femorph::is_valid_cell(kind, corners))
+      {
+        invalid->SetValue(c, 1);
+        ++invalidCount;
+      }
     }
 
     // The tets of this chunk in one parallel pass of the core.
@@ -172,6 +187,11 @@ bool vtkFEMorphMeshQuality::Execute(
       // Exact sign: a float volume of a nearly flat tet may have either sign.
       const int sign =
         femorph::orient3d_sign(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
+      if (sign <= 0)
+      {
+        invalid->SetValue(c, 1);
+        ++invalidCount;
+      }
       if (sign < 0)
       {
         inverted->SetValue(c, 1);
@@ -219,6 +239,7 @@ bool vtkFEMorphMeshQuality::Execute(
   cd->AddArray(minDihedral);
   cd->AddArray(maxDihedral);
   cd->AddArray(inverted);
+  cd->AddArray(invalid);
   cd->SetActiveScalars("Stretch");
 
   // After ShallowCopy the output owns its attribute and field data containers
@@ -238,6 +259,7 @@ bool vtkFEMorphMeshQuality::Execute(
   AddValue(fd, "StretchThreshold", this->StretchThreshold);
   AddCount(fd, "InvertedCount", invertedCount);
   AddCount(fd, "ZeroVolumeCount", zeroVolumeCount);
+  AddCount(fd, "InvalidCount", invalidCount);
   AddCount(fd, "BelowThresholdCount", belowThresholdCount);
   AddCount(fd, "TetraCount", tetraCount);
   AddCount(fd, "PyramidCount", kindCounts[static_cast<int>(femorph::CellKind::Pyramid)]);

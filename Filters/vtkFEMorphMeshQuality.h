@@ -35,6 +35,18 @@
  *   (exact orientation test, VTK_TETRA's positive order), or when any corner
  *   of a hexahedron, wedge or pyramid has a negative scaled Jacobian (inverted
  *   or folded). 0 otherwise, and for cells not evaluated.
+ * - `Invalid` (unsigned char, 0/1): 1 when the cell is not valid by FEMorph's
+ *   one definition, shared with FEMorph Hex To Tet (Core/quality/is_valid_cell.h):
+ *   a cell is valid when every tetrahedron over four of its nodes that are not
+ *   coplanar in the reference cell has positive volume (exact sign; 1 tet for
+ *   a tetrahedron, 4 for a pyramid, 12 for a wedge, 58 for a hexahedron).
+ *   Every split into tetrahedra without new points, whatever the diagonals of
+ *   its quads, then has only positive tets. Stricter than ScaledJacobian: a
+ *   hexahedron whose top face is turned by 90 degrees has ScaledJacobian 0.707
+ *   at every corner (VTK's Verdict agrees) but Invalid 1, and Hex To Tet may
+ *   report it inverted. Inverted and flat cells are Invalid.
+ * Every measure is scale-free: coordinates from 1e-300 to 1e300 give the same
+ * values (cells out of the ordinary range are scaled by a power of two first).
  * The output's active cell scalars are set to `Stretch`, so ParaView colours
  * by it.
  *
@@ -47,6 +59,7 @@
  * - `StretchThreshold` (the property's value),
  * - vtkIdTypeArray counts: `InvertedCount` (cells with Inverted = 1),
  *   `ZeroVolumeCount` (tetrahedra whose four points are exactly coplanar),
+ *   `InvalidCount` (cells with Invalid = 1),
  *   `BelowThresholdCount` (tetrahedra with Stretch < StretchThreshold; inverted
  *   and flat ones included), `TetraCount`, `PyramidCount`, `WedgeCount`,
  *   `HexahedronCount` (hexahedra and voxels), `SkippedCellCount` (cells not

@@ -132,7 +132,9 @@ bool vtkFEMorphSegment::Execute(
   {
     this->Warn(Plural(buildReport.degenerate_tets, "tetrahedron has", "tetrahedra have") +
       " zero volume (FEMorph Mesh Quality lists them); the segmentation uses the boundary "
-      "surface only, and FEMorph Improve removes them.");
+      "surface only. FEMorph Improve accepts the mesh and removes them by local operations "
+      "(with Require Valid on, it fails naming those it cannot remove); FEMorph Deform refuses "
+      "the mesh until they are removed, so run Improve first.");
   }
   if (!this->Progress(0.05))
   {

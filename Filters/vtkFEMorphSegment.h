@@ -15,7 +15,12 @@
  * them). The tets must be consistently oriented (either vertex order), with a
  * manifold boundary; the core's message (e.g. a non-manifold boundary edge)
  * is reported otherwise. Zero-volume tets are accepted with a warning (only
- * the boundary surface is segmented; its degenerate triangles are counted).
+ * the boundary surface is segmented; its degenerate triangles are counted;
+ * FEMorph Improve repairs such a mesh, FEMorph Deform refuses it).
+ * Boundary points on top of other boundary points (an unmerged seam of
+ * duplicate nodes, which the segmentation would take for faces inside the
+ * part) are counted in a warning that says to merge them first (Clean to
+ * Grid, vtkStaticCleanUnstructuredGrid).
  *
  * Output 0 ("Mesh"): a shallow copy of the input (the input is never
  * modified) with the arrays of docs/ARCHITECTURE.md, written by

@@ -2,6 +2,9 @@
 
 #include <tetgen.h>
 
+#include <algorithm>
+#include <cmath>
+
 // Shewchuk's 2D predicates are compiled into libtet next to the 3D ones but
 // tetgen.h does not declare them.
 REAL orient2d(REAL* pa, REAL* pb, REAL* pc);
@@ -37,7 +40,24 @@ int orient3d_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   ensure_exactinit();
   // Shewchuk's orient3d(a, b, c, d) = (a - d) . ((b - d) x (c - d)), which is
   // minus six times the signed volume in VTK's convention.
-  return -sign(orient3d(ptr(a), ptr(b), ptr(c), ptr(d)));
+  const REAL det = orient3d(ptr(a), ptr(b), ptr(c), ptr(d));
+  if (det != 0 && std::isfinite(det)) return -sign(det);
+  // Shewchuk's arithmetic is exact only without underflow and overflow: with
+  // coordinates near 1e-300 the products of three differences underflow to
+  // 0, near 1e300 they overflow (issue 29: every tet flat at either scale).
+  // Zero and non-finite results are therefore redone on the points scaled by
+  // a power of two that brings the largest coordinate into [0.5, 1): exact,
+  // so the sign is the points' own. Off the hot path: only coplanar points
+  // and extreme scales get here.
+  double largest = 0;
+  for (const Eigen::Vector3d* p : {&a, &b, &c, &d}) largest = std::max(largest, p->cwiseAbs().maxCoeff());
+  if (!(largest > 0) || !std::isfinite(largest) || (largest >= 0x1p-200 && largest <= 0x1p200))
+    return -sign(det);
+  int exponent = 0;
+  std::frexp(largest, &exponent);
+  const double s = std::ldexp(1.0, -exponent);
+  const Eigen::Vector3d sa = a * s, sb = b * s, sc = c * s, sd = d * s;
+  return -sign(orient3d(ptr(sa), ptr(sb), ptr(sc), ptr(sd)));
 }
 
 int insphere_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& b,

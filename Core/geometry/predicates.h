@@ -11,6 +11,8 @@ namespace femorph {
 /// Sign of the volume of tet (a, b, c, d), computed exactly:
 /// +1 when (b - a) . ((c - a) x (d - a)) > 0, which is VTK_TETRA's positive
 /// orientation and FEMorph's; 0 when the four points are coplanar; -1 else.
+/// Exact at any scale of the coordinates (1e-300 to 1e300): a result that
+/// underflowed or overflowed is redone on the points scaled by a power of two.
 int orient3d_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                   const Eigen::Vector3d& c, const Eigen::Vector3d& d);
 

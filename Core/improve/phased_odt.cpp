@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <functional>
 #include <chrono>
+#include <memory>
 #include <utility>
 
 namespace femorph {
@@ -354,6 +355,16 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
     return stats;
   }
 
+  // PhasedOdtOptions::keep_minimum: the input, to give back if the result's
+  // minimum falls below the bound (an unrepaired inverted input has a
+  // negative minimum, which no result falls below: no copy needed).
+  const double keep_bound = options.keep_input_minimum
+                                ? stats.min_stretch_before
+                                : std::min(stats.min_stretch_before, options.quality_floor);
+  std::unique_ptr<TetMesh> input_copy;
+  if (options.keep_minimum && stats.inverted_before == 0 && keep_bound > 0)
+    input_copy = std::make_unique<TetMesh>(mesh);
+
   if (options.move_unfitted_regions && !options.fix_boundary) add_discrete_regions(mesh, geometry);
 
   // Fig. 2.34 (B) first for inverted tets: every later step needs a valid mesh.
@@ -527,6 +538,14 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
   }
 
   live_stretch_range(mesh, &stats.min_stretch_after, &stats.mean_stretch_after);
+  if (input_copy && !stats.aborted && stats.min_stretch_after < keep_bound) {
+    stats.kept_input = true;
+    stats.min_stretch_rejected = stats.min_stretch_after;
+    mesh = std::move(*input_copy);
+    stats.min_stretch_after = stats.min_stretch_before;
+    stats.mean_stretch_after = stats.mean_stretch_before;
+  }
+  input_copy.reset();
   stats.tets_after = mesh.live_tets();
   stats.below_floor = count_below(mesh, options.quality_floor, &stats.below_floor_on_boundary);
   count_inverted(mesh, &stats.remaining_inverted);

@@ -93,6 +93,18 @@ struct PhasedOdtOptions {
   /// thresholds and every curved region within its acceptable error. Off:
   /// always run the phases.
   bool skip_if_good = true;
+  /// Beyond the thesis (issue 29): the result's minimum stretch may never
+  /// fall below min(the input's minimum, quality_floor). A run that ends
+  /// below it gives the input back unchanged (PhasedOdtStats::kept_input);
+  /// the phases work on the mesh, a copy of the input is kept for this
+  /// (one copy of the mesh's arrays, taken only when the phases run).
+  bool keep_minimum = true;
+  /// With keep_minimum: the bound is the input's minimum itself, whatever
+  /// the floor. For a density target that is the input's own (Improve
+  /// without a Reference): a mesh already at its own density has nothing
+  /// to gain that a lower minimum would pay for (a perfect lattice of 48
+  /// tets came out with 84 and a lower minimum).
+  bool keep_input_minimum = false;
   /// For benchmarks: the minimum stretch over the live tets after every step
   /// goes into PhasedOdtStats::quality_trace (one parallel pass over the
   /// tets per step, left out of the trace's and the steps' times).
@@ -164,6 +176,10 @@ struct PhasedOdtStats {
   double seconds = 0;
   bool aborted = false;
   bool skipped = false;  ///< the mesh needed nothing (skip_if_good)
+  /// The result fell below the keep_minimum bound; the mesh is the input as
+  /// given, and min_stretch_rejected the minimum of the result dropped.
+  bool kept_input = false;
+  double min_stretch_rejected = 0;
 };
 
 /// Thesis Fig. 2.34 on `mesh` (built with BuildOptions::allow_inverted when it

@@ -24,21 +24,64 @@ inline double cross_norm(const Vec3& u, const Vec3& v) {
   return std::sqrt(x * x + y * y + z * z);
 }
 
+// Scale-free measures: every measure here is a ratio of products of up to
+// four edge lengths (det / (L_max * S), normals' cross products), so with
+// edges near 1e-300 the products underflow to 0 and near 1e300 they overflow
+// (every tet came out flat at either scale, issue 29). A cell whose longest
+// edge lies outside [2^-200, 2^200] is first scaled by a power of two, which
+// is exact and leaves every ratio as it is; cells inside the range (all
+// ordinary meshes) are computed exactly as before.
+constexpr double kMinSquaredLength = 0x1p-400;
+constexpr double kMaxSquaredLength = 0x1p400;
+
+// The exponent k for which 2^k brings `largest` (> 0, finite) into [0.5, 1).
+inline int scale_exponent(double largest) {
+  int exponent = 0;
+  std::frexp(largest, &exponent);
+  return -exponent;
+}
+
+inline double power_of_two_scale(double largest) { return std::ldexp(1.0, scale_exponent(largest)); }
+
 // The six edge vectors of tet (a, b, c, d), computed once and shared by every
-// measure of the tet.
+// measure of the tet; scaled by a power of two when their lengths are out of
+// range (see kMinSquaredLength).
 struct TetEdges {
   Vec3 ab, ac, ad, bc, bd, cd;
+  double max_squared;  // of the (scaled) edges
+  int exponent = 0;    // the edges are 2^exponent times the tet's
 
   TetEdges(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
-      : ab(b - a), ac(c - a), ad(d - a), bc(c - b), bd(d - b), cd(d - c) {}
+      : ab(b - a), ac(c - a), ad(d - a), bc(c - b), bd(d - b), cd(d - c) {
+    max_squared = max_squared_length();
+    // Also taken when a squared length overflowed to infinity.
+    if (!(max_squared >= kMinSquaredLength && max_squared <= kMaxSquaredLength)) rescale();
+  }
 
-  // Six times the signed volume.
+  // Six times the signed volume (of the scaled edges).
   double det() const { return ab.dot(ac.cross(ad)); }
+
+  // The tet's own signed volume from det() (0 or infinite where it is not
+  // representable).
+  double volume(double det) const { return std::ldexp(det / 6.0, -3 * exponent); }
 
   double max_squared_length() const {
     return std::max({ab.squaredNorm(), ac.squaredNorm(), ad.squaredNorm(),
                      bc.squaredNorm(), bd.squaredNorm(), cd.squaredNorm()});
   }
+
+ private:
+  void rescale() {
+    double largest = 0;
+    for (const Vec3* e : {&ab, &ac, &ad, &bc, &bd, &cd}) largest = std::max(largest, e->cwiseAbs().maxCoeff());
+    if (!(largest > 0) || !std::isfinite(largest)) return;  // all points equal, or NaN
+    exponent = scale_exponent(largest);
+    const double s = std::ldexp(1.0, exponent);
+    for (Vec3* e : {&ab, &ac, &ad, &bc, &bd, &cd}) *e *= s;
+    max_squared = max_squared_length();
+  }
+
+ public:
 
   // Face normals (twice the area vectors), opposite a, b, c, d in turn;
   // outward for a positive tet, all inward for an inverted one.
@@ -51,7 +94,7 @@ struct TetEdges {
 // Eq. 1.1 from the edges and det = 6 V; the face areas are the normals'
 // norms over 2 (cross_norm of normal_a() ... normal_d()'s factors).
 double stretch_of(const TetEdges& e, double det) {
-  const double l_max = std::sqrt(e.max_squared_length());
+  const double l_max = std::sqrt(e.max_squared);
   const double s = cross_norm(e.bc, e.bd) + cross_norm(e.ad, e.ac) + cross_norm(e.ab, e.ad) +
                    cross_norm(e.ac, e.ab);
   const double denominator = l_max * s;
@@ -129,8 +172,21 @@ double corner_jacobian(const Vec3* x, int i, const int* j) {
   return lengths > 0 ? e1.dot(e2.cross(e3)) / lengths : 0.0;
 }
 
+// Eq. 4.2 at the N evaluated corners of a cell of `nodes` nodes. Scale-free as TetEdges:
+// a cell whose coordinates all lie below 2^-200 or reach beyond 2^200 in
+// magnitude is scaled by a power of two first (its edges cannot be shorter
+// than its coordinates' precision, so the largest coordinate bounds them).
 template <int N>
-int corner_jacobians(const Vec3* x, const int (&table)[N][3], double* corners) {
+int corner_jacobians(const Vec3* x, int nodes, const int (&table)[N][3], double* corners) {
+  double largest = 0;
+  for (int i = 0; i < nodes; ++i) largest = std::max(largest, x[i].cwiseAbs().maxCoeff());
+  if (largest > 0 && std::isfinite(largest) && (largest < 0x1p-200 || largest > 0x1p200)) {
+    const double s = power_of_two_scale(largest);
+    Vec3 scaled[8];  // every node, the pyramid's apex too (N counts corners)
+    for (int i = 0; i < nodes; ++i) scaled[i] = x[i] * s;
+    for (int i = 0; i < N; ++i) corners[i] = corner_jacobian(scaled, i, table[i]);
+    return N;
+  }
   for (int i = 0; i < N; ++i) corners[i] = corner_jacobian(x, i, table[i]);
   return N;
 }
@@ -167,9 +223,9 @@ int scaled_jacobian_corners(CellKind kind, const Vec3* points, double* corners) 
       tet_corner_jacobians(e, e.det(), corners);
       return 4;
     }
-    case CellKind::Pyramid: return corner_jacobians(points, kPyramidCorners, corners);
-    case CellKind::Wedge: return corner_jacobians(points, kWedgeCorners, corners);
-    case CellKind::Hexahedron: return corner_jacobians(points, kHexCorners, corners);
+    case CellKind::Pyramid: return corner_jacobians(points, 5, kPyramidCorners, corners);
+    case CellKind::Wedge: return corner_jacobians(points, 6, kWedgeCorners, corners);
+    case CellKind::Hexahedron: return corner_jacobians(points, 8, kHexCorners, corners);
   }
   return 0;
 }
@@ -194,7 +250,7 @@ void compute_tet_quality(const std::vector<Vec3>& points, const std::vector<Tet>
     const Tet& tet = tets[static_cast<std::size_t>(t)];
     const TetEdges e(points[tet[0]], points[tet[1]], points[tet[2]], points[tet[3]]);
     const double det = e.det();
-    if (signed_volume) signed_volume[t] = det / 6.0;
+    if (signed_volume) signed_volume[t] = e.volume(det);
     if (stretch) stretch[t] = stretch_of(e, det);
     if (min_scaled_jacobian) min_scaled_jacobian[t] = tet_min_jacobian(e, det);
     if (want_dihedral) {

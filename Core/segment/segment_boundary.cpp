@@ -1,6 +1,7 @@
 // The boundary of a tetrahedral mesh segmented (thesis 2.4): the one sequence
 // FEMorph Segment runs and FEMorph Improve runs on a mesh without a
 // segmentation.
+#include "mesh/count_coincident_points.h"
 #include "mesh/surface_mesh.h"
 #include "mesh/tet_mesh.h"
 #include "segment/segmentation.h"
@@ -26,6 +27,21 @@ Status segment_boundary(const TetMesh& mesh, const SegmentationParams& params, S
     out.warnings.clear();
     return Status::failure("the segmentation failed: " + segmented.message);
   }
+  // Beyond the thesis (issue 29): an unmerged seam (duplicate nodes between
+  // two parts of one body) is a closed boundary inside the part; the
+  // segmentation then splits every face it crosses into many regions,
+  // silently. Boundary points within a millionth of the mean edge of
+  // another boundary point are such duplicates: no real surface mesh has
+  // them.
+  const std::size_t coincident =
+      count_coincident_points(surface.points, kCoincidentPointTolerance * surface.mean_edge_length);
+  if (coincident > 0)
+    out.warnings.insert(out.warnings.begin(),
+                        std::to_string(coincident) + " boundary points lie on top of other boundary points (within " +
+                            "1e-6 of the mean edge length) but are separate points: the mesh has unmerged seams " +
+                            "(duplicate nodes), which the segmentation takes for faces inside the part and splits " +
+                            "its regions along. Merge coincident points first (in ParaView: Clean to Grid; in VTK: " +
+                            "vtkStaticCleanUnstructuredGrid), then segment again.");
   if (report.degenerate_triangles > 0) {
     const std::size_t n = report.degenerate_triangles;
     out.warnings.insert(out.warnings.begin(),

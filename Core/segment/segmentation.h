@@ -109,11 +109,18 @@ Status segment_surface(const SurfaceMesh& surface, const SegmentationParams& par
 
 class TetMesh;
 
+/// Boundary points closer than this times the mean edge length to another
+/// boundary point are duplicate nodes (segment_boundary's warning).
+constexpr double kCoincidentPointTolerance = 1e-6;
+
 /// The boundary of a tet mesh (extract_boundary_surface) segmented by
 /// segment_surface into `out`; `surface` receives the boundary with its
 /// source vertices and faces. Fails with a message naming the problem (an
 /// open or non-manifold boundary with its counts, or the segmentation's).
-/// Degenerate boundary triangles are a warning in out.warnings, first.
+/// Degenerate boundary triangles are a warning in out.warnings, first; so
+/// are boundary points that coincide with other boundary points (within
+/// kCoincidentPointTolerance times the mean edge length: an unmerged seam),
+/// with their count and what to do (merge them first).
 /// Progress: the extraction at 0, then segment_surface's.
 Status segment_boundary(const TetMesh& mesh, const SegmentationParams& params, SurfaceMesh& surface,
                         Segmentation& out, const SegmentationProgress& progress = {});

@@ -13,7 +13,8 @@ import os
 import paraview.simple as simple
 from paraview import servermanager
 
-EXPECTED_ARRAYS = ["Stretch", "ScaledJacobian", "MinDihedralAngle", "MaxDihedralAngle", "Inverted"]
+EXPECTED_ARRAYS = ["Stretch", "ScaledJacobian", "MinDihedralAngle", "MaxDihedralAngle", "Inverted",
+                   "Invalid"]
 
 
 def main():
@@ -53,8 +54,18 @@ def main():
     menu = hints.FindNestedElementByName("ShowInMenu") if hints else None
     assert menu is not None and menu.GetAttribute("category") == "FEMorph"
     doc = proxy.GetDocumentation().GetDescription()
-    for name in EXPECTED_ARRAYS + ["StretchMin", "InvertedCount", "BelowThresholdCount"]:
+    for name in EXPECTED_ARRAYS + ["StretchMin", "InvertedCount", "InvalidCount", "BelowThresholdCount"]:
         assert name in doc, "the filter's help does not mention %s" % name
+
+    # Issue 29: counts and seeds get plain entries, not sliders. ParaView's
+    # panel (pqIntVectorPropertyWidget) draws a slider for an IntRangeDomain
+    # with both a minimum and a maximum, a line edit otherwise.
+    segment = (ns.get("FEMorphSegment") or getattr(simple, "FEMorphSegment"))(Input=tets)
+    for name in ("RansacIterations", "RandomSeed"):
+        domain = segment.SMProxy.GetProperty(name).GetDomain("range")
+        assert domain is not None, name
+        assert domain.GetMinimumExists(0) and not domain.GetMaximumExists(0), \
+            "%s would get a slider" % name
     print("OK: plugin loaded through %s" % ("LoadPlugin" if args.plugin else "PV_PLUGIN_PATH"))
 
 

@@ -7,6 +7,7 @@
 // check_validity and by volumes computed here.
 #include "hex/hex_to_tet.h"
 #include "quality/check_validity.h"
+#include "quality/is_valid_cell.h"
 #include "quality/tet_quality.h"
 #include "test_meshes.h"
 
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <map>
 #include <numeric>
 #include <random>
@@ -749,6 +751,101 @@ TEST(HexToTet, InvertedAndFlatHexesAreReported) {
     EXPECT_EQ(r.tet_inverted[t] == 1,
               volume(dent.points[k[0]], dent.points[k[1]], dent.points[k[2]], dent.points[k[3]]) <= 0);
   }
+}
+
+// Issue 29: one definition of a valid cell for Mesh Quality and Hex To Tet
+// (quality/is_valid_cell.h). A hexahedron whose top face is turned by 90
+// degrees has scaled Jacobian sqrt(2)/2 at every corner (Verdict's value),
+// but Hex To Tet gives it an inverted tet: it is invalid. Property: a valid
+// hexahedron gives no inverted tet in any mode (conforming, every fixed type,
+// mirrored or not), on cells twisted and jittered at random; the twisted
+// cells beyond 45 degrees are invalid, those below 30 valid.
+TEST(ValidCell, OneDefinitionForMeshQualityAndHexToTet) {
+  const auto twisted = [](double degrees) {
+    std::array<Vec3, 8> x;
+    const double a = degrees * kPi / 180;
+    for (int i = 0; i < 8; ++i) {
+      x[i] = kCube[i];
+      if (i >= 4) {
+        const Vec3 r = kCube[i] - Vec3(0.5, 0.5, 1);
+        x[i] = Vec3(0.5 + std::cos(a) * r.x() - std::sin(a) * r.y(), 0.5 + std::sin(a) * r.x() + std::cos(a) * r.y(), 1);
+      }
+    }
+    return x;
+  };
+  const auto inverted_in_any_mode = [](const std::array<Vec3, 8>& x) {
+    const std::vector<Vec3> points(x.begin(), x.end());
+    MixedCells cells;
+    const index_t ids[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+    cells.add(CellKind::Hexahedron, ids);
+    std::vector<HexToTetParams> modes(1);
+    for (int type = 0; type < kHexDecompositionTypes; ++type)
+      for (const bool mirrored : {false, true}) {
+        HexToTetParams p;
+        p.conforming = false;
+        p.type = static_cast<HexDecompositionType>(type);
+        p.mirrored = mirrored;
+        modes.push_back(p);
+      }
+    bool any = false;
+    for (const HexToTetParams& p : modes) {
+      HexToTetResult r;
+      EXPECT_TRUE(decompose_to_tetrahedra(points, cells, p, r).ok);
+      any = any || r.inverted_cells > 0;
+    }
+    return any;
+  };
+
+  const std::array<Vec3, 8> quarter = twisted(90);
+  EXPECT_NEAR(min_scaled_jacobian(CellKind::Hexahedron, quarter.data()), std::sqrt(0.5), 1e-12);
+  EXPECT_FALSE(is_valid_cell(CellKind::Hexahedron, quarter.data()));
+  {
+    const std::vector<Vec3> points(quarter.begin(), quarter.end());
+    MixedCells cells;
+    const index_t ids[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+    cells.add(CellKind::Hexahedron, ids);
+    HexToTetResult r;
+    ASSERT_TRUE(decompose_to_tetrahedra(points, cells, {}, r).ok);
+    EXPECT_EQ(r.inverted_cells, 1u);  // the default (conforming) mode refuses it
+  }
+  for (const double degrees : {0.0, 10.0, 20.0, 30.0}) {
+    EXPECT_TRUE(is_valid_cell(CellKind::Hexahedron, twisted(degrees).data())) << degrees;
+    EXPECT_FALSE(inverted_in_any_mode(twisted(degrees))) << degrees;
+  }
+  for (const double degrees : {50.0, 60.0, 75.0, 90.0})
+    EXPECT_FALSE(is_valid_cell(CellKind::Hexahedron, twisted(degrees).data())) << degrees;
+
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> jitter(-0.35, 0.35), angle(0, 70);
+  int valid = 0, invalid = 0;
+  for (int n = 0; n < 400; ++n) {
+    std::array<Vec3, 8> x = twisted(angle(rng));
+    for (Vec3& p : x) p += Vec3(jitter(rng), jitter(rng), jitter(rng));
+    if (is_valid_cell(CellKind::Hexahedron, x.data())) {
+      ++valid;
+      EXPECT_FALSE(inverted_in_any_mode(x)) << n;
+      EXPECT_GT(min_scaled_jacobian(CellKind::Hexahedron, x.data()), 0) << n;
+    } else {
+      ++invalid;
+    }
+  }
+  EXPECT_GT(valid, 50);
+  EXPECT_GT(invalid, 50);
+
+  // Wedges and pyramids: the reference cells are valid, their mirror images
+  // and a pyramid with its apex pushed through the base are not.
+  const Vec3 wedge[6] = {Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(0, 1, 1), Vec3(1, 0, 1)};
+  EXPECT_TRUE(is_valid_cell(CellKind::Wedge, wedge));
+  const Vec3 mirrored_wedge[6] = {wedge[0], wedge[2], wedge[1], wedge[3], wedge[5], wedge[4]};
+  EXPECT_FALSE(is_valid_cell(CellKind::Wedge, mirrored_wedge));
+  Vec3 pyramid[5] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(0.5, 0.5, 1)};
+  EXPECT_TRUE(is_valid_cell(CellKind::Pyramid, pyramid));
+  pyramid[4].z() = -1;
+  EXPECT_FALSE(is_valid_cell(CellKind::Pyramid, pyramid));
+  const Vec3 tet[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  EXPECT_TRUE(is_valid_cell(CellKind::Tetra, tet));
+  const Vec3 flat[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)};
+  EXPECT_FALSE(is_valid_cell(CellKind::Tetra, flat));
 }
 
 TEST(HexToTet, RefusesBrokenInput) {

@@ -1,8 +1,11 @@
 // segment_surface on surfaces built in the test: a box (no curvature
 // anywhere), a capped cylinder, a sphere, a profile with a fillet only two
 // triangles wide (documented behaviour), and bad input.
+#include "mesh/count_coincident_points.h"
 #include "mesh/surface_mesh.h"
+#include "mesh/tet_mesh.h"
 #include "segment/segmentation.h"
+#include "test_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -247,6 +250,65 @@ TEST(SegmentSurface, DeterministicForASeed) {
     EXPECT_EQ(a.regions[i].surface.radius, b.regions[i].surface.radius);
     EXPECT_EQ(a.regions[i].surface.point, b.regions[i].surface.point);
   }
+}
+
+}  // namespace
+}  // namespace femorph
+
+namespace femorph {
+namespace {
+
+// count_coincident_points: within the tolerance (inclusive) or not, exact
+// duplicates with tolerance 0, far from the origin, and many points.
+TEST(CountCoincidentPoints, ToleranceAndDuplicates) {
+  EXPECT_EQ(count_coincident_points({}, 1.0), 0u);
+  EXPECT_EQ(count_coincident_points({Vec3(0, 0, 0)}, 1.0), 0u);
+  const std::vector<Vec3> p = {Vec3(0, 0, 0), Vec3(1e-7, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
+  EXPECT_EQ(count_coincident_points(p, 0.0), 2u);   // the two at x = 1
+  EXPECT_EQ(count_coincident_points(p, 1e-6), 4u);  // and the pair near 0
+  EXPECT_EQ(count_coincident_points(p, 1.0), 5u);   // distance 1 counts
+  std::vector<Vec3> far;
+  for (int i = 0; i < 1000; ++i) far.push_back(Vec3(1e9 + i * 0.5, 3e9, -2e9 + (i % 7)));
+  EXPECT_EQ(count_coincident_points(far, 1e-6), 0u);
+  far.push_back(far[500]);
+  EXPECT_EQ(count_coincident_points(far, 1e-6), 2u);
+}
+
+// Issue 29: a part meshed in two halves whose points on the common face were
+// not merged (an unmerged seam) has a closed boundary inside; segment_boundary
+// must say so, with the count and what to do, instead of returning many
+// regions silently. The merged part (control) gets no such warning.
+TEST(SegmentBoundary, WarnsAboutAnUnmergedSeam) {
+  const int n = 3;
+  const testing::TestMesh half = testing::make_cube_mesh(n, 0.0, 1);
+  std::vector<Vec3> points = half.points;
+  std::vector<Tet> tets = half.tets;
+  const index_t offset = static_cast<index_t>(points.size());
+  for (const Vec3& x : half.points) points.push_back(x + Vec3(1, 0, 0));
+  for (Tet t : half.tets) {
+    for (index_t& v : t) v += offset;
+    tets.push_back(t);
+  }
+  TetMesh seamed;
+  ASSERT_TRUE(seamed.build(points, tets).ok);
+  SurfaceMesh surface;
+  Segmentation seg;
+  ASSERT_TRUE(segment_boundary(seamed, SegmentationParams{}, surface, seg).ok);
+  std::string warnings;
+  for (const std::string& w : seg.warnings) warnings += w + "\n";
+  const std::size_t seam_points = 2 * (n + 1) * (n + 1);
+  EXPECT_NE(warnings.find(std::to_string(seam_points) + " boundary points lie on top of other boundary points"),
+            std::string::npos)
+      << warnings;
+  EXPECT_NE(warnings.find("Merge coincident points first"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("Clean to Grid"), std::string::npos) << warnings;
+
+  TetMesh whole;
+  const testing::TestMesh cube = testing::make_cube_mesh(n, 0.0, 1);
+  ASSERT_TRUE(whole.build(cube.points, cube.tets).ok);
+  Segmentation control;
+  ASSERT_TRUE(segment_boundary(whole, SegmentationParams{}, surface, control).ok);
+  for (const std::string& w : control.warnings) EXPECT_EQ(w.find("lie on top"), std::string::npos) << w;
 }
 
 }  // namespace

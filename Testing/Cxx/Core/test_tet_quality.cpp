@@ -3,6 +3,7 @@
 // invariance under similarity transforms, and the batch function against the
 // per-tet functions.
 #include "quality/tet_quality.h"
+#include "geometry/predicates.h"
 
 #include <gtest/gtest.h>
 
@@ -393,6 +394,64 @@ TEST(TetQuality, HexInvariantUnderSimilarity) {
     for (Vec3& p : x) p = scale * (rotation * p) + Vec3(1, 2, 3) * scale;
     const std::vector<double> q = corners(CellKind::Hexahedron, x);
     for (int i = 0; i < 8; ++i) EXPECT_NEAR(q[i], q0[i], 1e-12 * std::abs(q0[i]));
+  }
+}
+
+// Issue 29: at 1e-300 and 1e300 the products of edge lengths under- and
+// overflow, and every tet came out flat (stretch 0, zero volume). Every
+// measure, the batch function and the exact orientation are scale-free from
+// 1e-300 to 1e300; 1e-12 and 1e12 are the ordinary range's control.
+TEST(TetQuality, ScaleFreeFrom1eMinus300To1e300) {
+  std::mt19937 rng(29);
+  std::vector<TetPoints> tets;
+  for (int n = 0; n < 20; ++n) {
+    TetPoints p = jittered_tet(rng);
+    if (n % 2) std::swap(p[0], p[1]);  // inverted tets too
+    tets.push_back(p);
+  }
+  std::vector<Vec3> hex = box_hex(1, 2, 3);
+  hex[6] += Vec3(0.2, -0.1, 0.3);
+  const std::vector<double> hex0 = corners(CellKind::Hexahedron, hex);
+  for (const double scale : {1e-300, 1e300, 1e-12, 1e12}) {
+    SCOPED_TRACE(scale);
+    std::vector<Vec3> points;
+    std::vector<Tet> batch;
+    for (const TetPoints& p : tets) {
+      TetPoints q;
+      for (int i = 0; i < 4; ++i) q[i] = scale * p[i];
+      EXPECT_NEAR(stretch(q), stretch(p), 1e-12 * std::abs(stretch(p)));
+      EXPECT_NEAR(min_scaled_jacobian(CellKind::Tetra, q.data()), min_scaled_jacobian(CellKind::Tetra, p.data()),
+                  1e-12);
+      EXPECT_NEAR(dihedral(q).min, dihedral(p).min, 1e-12);
+      EXPECT_NEAR(dihedral(q).max, dihedral(p).max, 1e-12);
+      EXPECT_EQ(orient3d_sign(q[0], q[1], q[2], q[3]), volume6(p) > 0 ? 1 : -1);
+      const index_t first = static_cast<index_t>(points.size());
+      points.insert(points.end(), q.begin(), q.end());
+      batch.push_back({first, first + 1, first + 2, first + 3});
+    }
+    std::vector<double> s(batch.size()), volume(batch.size());
+    compute_tet_quality(points, batch, s.data(), nullptr, nullptr, nullptr, volume.data());
+    for (std::size_t t = 0; t < batch.size(); ++t) {
+      EXPECT_NEAR(s[t], stretch(tets[t]), 1e-12);
+      // The volume itself is 1e-900 or 1e900: not representable, but of the
+      // right sign (or 0 / infinite), never NaN.
+      EXPECT_FALSE(std::isnan(volume[t]));
+      EXPECT_GE(volume[t] * volume6(tets[t]), 0.0);
+    }
+    std::vector<Vec3> x = hex;
+    for (Vec3& p : x) p *= scale;
+    const std::vector<double> q = corners(CellKind::Hexahedron, x);
+    for (int i = 0; i < 8; ++i) EXPECT_NEAR(q[i], hex0[i], 1e-12);
+    // A pyramid: its apex (node 4) is scaled too.
+    std::vector<Vec3> pyramid = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(0.5, 0.5, 1)};
+    const double pyramid0 = min_scaled_jacobian(CellKind::Pyramid, pyramid.data());
+    for (Vec3& p : pyramid) p *= scale;
+    EXPECT_NEAR(min_scaled_jacobian(CellKind::Pyramid, pyramid.data()), pyramid0, 1e-12);
+    // A flat tet stays flat at every scale.
+    const TetPoints flat = {Vec3(0, 0, 0) * scale, Vec3(1, 0, 0) * scale, Vec3(0, 1, 0) * scale,
+                            Vec3(1, 1, 0) * scale};
+    EXPECT_EQ(orient3d_sign(flat[0], flat[1], flat[2], flat[3]), 0);
+    EXPECT_EQ(stretch(flat), 0.0);
   }
 }
 

@@ -2,6 +2,7 @@
 // input, on a Data/ part; the input is never modified; XML defaults equal the
 // C++ defaults.
 #include "filters_test_utils.h"
+#include "vtkFEMorphHexToTet.h"
 #include "vtkFEMorphMeshQuality.h"
 
 #include "vtkCallbackCommand.h"
@@ -216,6 +217,96 @@ TEST(MeshQuality, InvertedCornersOfOtherCells)
   EXPECT_TRUE(std::isnan(Field(out, "StretchMin"))); // no tets
 }
 
+// Issue 29: one definition of a valid cell (Core/quality/is_valid_cell.h),
+// shared with Hex To Tet. The unit hex with its top face turned by 90
+// degrees has ScaledJacobian sqrt(2)/2 at every corner (Verdict's value) and
+// no inverted corner, but Hex To Tet splits it into an inverted tet: Invalid.
+// The mixed grid's good cells are valid; its inverted and flat tets are not.
+TEST(MeshQuality, InvalidFlagsCellsHexToTetRefuses)
+{
+  auto twisted = MakeGrid({ { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 1, 0, 1 },
+                            { 1, 1, 1 }, { 0, 1, 1 }, { 0, 0, 1 } },
+    { { VTK_HEXAHEDRON, { 0, 1, 2, 3, 4, 5, 6, 7 } } });
+  vtkNew<vtkFEMorphMeshQuality> quality;
+  quality->SetInputData(twisted);
+  quality->Update();
+  vtkUnstructuredGrid* out = quality->GetOutput();
+  EXPECT_NEAR(CellArray(out, "ScaledJacobian")->GetComponent(0, 0), Sqrt2Over2, Tol);
+  EXPECT_EQ(CellArray(out, "Inverted")->GetComponent(0, 0), 0);
+  EXPECT_EQ(CellArray(out, "Invalid")->GetComponent(0, 0), 1);
+  EXPECT_EQ(Field(out, "InvalidCount"), 1);
+
+  vtkNew<vtkFEMorphHexToTet> split;
+  split->SetInputData(twisted);
+  split->AllowInvertedOn();
+  split->Update();
+  vtkAbstractArray* count = split->GetOutput()->GetFieldData()->GetAbstractArray("InvertedCellCount");
+  ASSERT_NE(count, nullptr);
+  EXPECT_EQ(vtkDataArray::SafeDownCast(count)->GetComponent(0, 0), 1);
+
+  vtkNew<vtkFEMorphMeshQuality> mixed;
+  mixed->SetInputData(MakeMixedGrid());
+  mixed->Update();
+  vtkDataArray* invalid = CellArray(mixed->GetOutput(), "Invalid");
+  for (int c = 0; c < NumMixedCells; ++c)
+  {
+    EXPECT_EQ(invalid->GetComponent(c, 0), c == InvertedTet || c == FlatTet ? 1 : 0) << c;
+  }
+  EXPECT_EQ(Field(mixed->GetOutput(), "InvalidCount"), 2);
+}
+
+// Issue 29: with coordinates at 1e-300 or 1e300 every tet came out with zero
+// volume and Stretch 0 (products of lengths under- and overflowed), with no
+// warning. The measures and counts are now the same at every scale; 1e-12
+// and 1e12 were already right and stay so.
+TEST(MeshQuality, SameResultsFrom1eMinus300To1e300)
+{
+  vtkNew<vtkFEMorphMeshQuality> reference;
+  reference->SetInputData(MakeMixedGrid());
+  reference->Update();
+  vtkUnstructuredGrid* ref = reference->GetOutput();
+  for (const double scale : { 1e-300, 1e300, 1e-12, 1e12 })
+  {
+    auto grid = MakeMixedGrid();
+    vtkPoints* points = grid->GetPoints();
+    for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+    {
+      double x[3];
+      points->GetPoint(i, x);
+      points->SetPoint(i, scale * x[0], scale * x[1], scale * x[2]);
+    }
+    vtkNew<vtkFEMorphMeshQuality> quality;
+    vtkNew<MessageRecorder> messages;
+    quality->AddObserver(vtkCommand::WarningEvent, messages);
+    quality->AddObserver(vtkCommand::ErrorEvent, messages);
+    quality->SetInputData(grid);
+    quality->Update();
+    vtkUnstructuredGrid* out = quality->GetOutput();
+    EXPECT_TRUE(messages->Errors.empty()) << scale << ": " << messages->AllErrors();
+    for (const char* name : { "ZeroVolumeCount", "InvertedCount", "InvalidCount", "BelowThresholdCount" })
+    {
+      EXPECT_EQ(Field(out, name), Field(ref, name)) << name << " at " << scale;
+    }
+    for (const char* name : { "Stretch", "ScaledJacobian", "MinDihedralAngle", "MaxDihedralAngle" })
+    {
+      for (int c = 0; c < NumMixedCells; ++c)
+      {
+        const double expected = CellArray(ref, name)->GetComponent(c, 0);
+        const double actual = CellArray(out, name)->GetComponent(c, 0);
+        if (std::isnan(expected))
+        {
+          EXPECT_TRUE(std::isnan(actual)) << name << " of cell " << c << " at " << scale;
+        }
+        else
+        {
+          EXPECT_NEAR(actual, expected, 1e-9 * std::max(1.0, std::abs(expected)))
+            << name << " of cell " << c << " at " << scale;
+        }
+      }
+    }
+  }
+}
+
 TEST(MeshQuality, InputUntouched)
 {
   auto input = MakeMixedGrid();
@@ -253,7 +344,7 @@ TEST(MeshQuality, InputUntouched)
   EXPECT_EQ(out->GetPointData()->GetArray("Temperature"), temperature.Get());
   EXPECT_EQ(out->GetFieldData()->GetArray("Note"), note.Get());
   EXPECT_EQ(out->GetPoints(), input->GetPoints());
-  EXPECT_EQ(out->GetCellData()->GetNumberOfArrays(), 6);
+  EXPECT_EQ(out->GetCellData()->GetNumberOfArrays(), 7);  // Material + 6 quality arrays
 }
 
 TEST(MeshQuality, WarnsAndSkipsCellsItCannotEvaluate)

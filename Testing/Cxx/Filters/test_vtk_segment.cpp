@@ -296,6 +296,12 @@ TEST(Segment, WarnsAboutZeroVolumeAndDegenerateTriangles)
   EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
   const std::string warnings = messages->AllWarnings();
   EXPECT_NE(warnings.find("1 tetrahedron has zero volume"), std::string::npos) << warnings;
+  // Issue 29: Improve accepts such a mesh and repairs it (it is built with
+  // allow_degenerate); only Deform refuses it. The message must not say
+  // that Improve refuses.
+  EXPECT_NE(warnings.find("FEMorph Improve accepts the mesh and removes them"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("FEMorph Deform refuses"), std::string::npos) << warnings;
+  EXPECT_EQ(warnings.find("Improve will refuse"), std::string::npos) << warnings;
   EXPECT_NE(warnings.find("1 boundary triangle is degenerate"), std::string::npos) << warnings;
 }
 
@@ -312,6 +318,38 @@ TEST(Segment, WarnsAboutUnusedPoints)
   EXPECT_NE(messages->AllWarnings().find("1 point is not used by any tetrahedron"),
     std::string::npos)
     << messages->AllWarnings();
+}
+
+// Issue 29: an unmerged seam (two cubes meshed apart, their common face's
+// four points written twice) became many regions with no warning. The
+// warning names the count of coincident boundary points and what to do.
+TEST(Segment, WarnsAboutCoincidentBoundaryPoints)
+{
+  std::vector<std::array<double, 3>> points;
+  std::vector<std::pair<int, std::vector<vtkIdType>>> cells;
+  // Kuhn's six tets of the unit cube, positively oriented.
+  const int kuhn[6][4] = { { 0, 1, 3, 7 }, { 0, 1, 7, 5 }, { 0, 2, 7, 3 }, { 0, 2, 6, 7 },
+    { 0, 4, 5, 7 }, { 0, 4, 7, 6 } };
+  for (int cube = 0; cube < 2; ++cube)
+  {
+    const vtkIdType first = static_cast<vtkIdType>(points.size());
+    for (int k = 0; k < 8; ++k)
+    {
+      points.push_back({ double(cube + (k & 1)), double((k >> 1) & 1), double((k >> 2) & 1) });
+    }
+    for (const auto& t : kuhn)
+    {
+      cells.push_back({ VTK_TETRA, { first + t[0], first + t[1], first + t[2], first + t[3] } });
+    }
+  }
+  vtkNew<vtkFEMorphSegment> segment;
+  vtkNew<MessageRecorder> messages;
+  EXPECT_EQ(RunSegment(segment, MakeGrid(points, cells), messages), 1);
+  EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
+  const std::string warnings = messages->AllWarnings();
+  EXPECT_NE(warnings.find("8 boundary points lie on top of other boundary points"), std::string::npos)
+    << warnings;
+  EXPECT_NE(warnings.find("Merge coincident points first"), std::string::npos) << warnings;
 }
 
 // The ParaView property defaults and ranges (Plugin/FEMorphFilters.xml) equal
@@ -342,10 +380,10 @@ TEST(Segment, XmlDefaultsEqualCxxDefaults)
         d->GetDistanceToleranceMaxValue(), false } },
     { "SetRansacIterations",
       { double(d->GetRansacIterations()), double(d->GetRansacIterationsMinValue()),
-        double(d->GetRansacIterationsMaxValue()), true } },
+        double(d->GetRansacIterationsMaxValue()), true, /*Entry=*/true } },
     { "SetRandomSeed",
       { double(d->GetRandomSeed()), double(d->GetRandomSeedMinValue()),
-        double(d->GetRandomSeedMaxValue()), true } },
+        double(d->GetRandomSeedMaxValue()), true, /*Entry=*/true } },
     { "SetRefineFits", { double(d->GetRefineFits()), 0, 1, true } },
     { "SetAdaptiveTolerance", { double(d->GetAdaptiveTolerance()), 0, 1, true } },
   };
