@@ -200,6 +200,9 @@ protected:
   vtkFEMorphAdapt();
   ~vtkFEMorphAdapt() override;
 
+  /// Gathered on process 0: the deformation and remeshing work on the whole mesh.
+  PieceMode GetPieceMode() const override { return Gathered; }
+
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   vtkTypeBool ProcessRequest(vtkInformation* request, vtkInformationVector** inputVector,

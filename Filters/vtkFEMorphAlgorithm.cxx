@@ -1,6 +1,12 @@
 #include "vtkFEMorphAlgorithm.h"
 
 #include "vtkFEMorphMeshConversion.h"
+#include "vtkFEMorphPieces.h"
+
+#include "vtkCommunicator.h"
+#include "vtkDataSet.h"
+#include "vtkMultiProcessController.h"
+#include "vtkSmartPointer.h"
 
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
@@ -211,6 +217,42 @@ void vtkFEMorphAlgorithm::ClearOutputs(vtkInformationVector* outputVector)
 }
 
 //------------------------------------------------------------------------------
+bool vtkFEMorphAlgorithm::CheckInputs(vtkInformationVector** inputVector)
+{
+  for (int port = 0; port < this->GetNumberOfInputPorts(); ++port)
+  {
+    vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(inputVector[port], 0);
+    // An optional input without cells counts as absent (the filter says so).
+    if (grid && (port == 0 || grid->GetNumberOfCells() > 0) && !this->CheckInputGrid(grid, port))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool vtkFEMorphAlgorithm::RunExecute(
+  vtkUnstructuredGrid* input, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  this->UpdateProgress(0.0);
+  try
+  {
+    return this->Execute(input, inputVector, outputVector);
+  }
+  catch (const std::bad_alloc&)
+  {
+    this->Fail("out of memory (" +
+      Plural(static_cast<std::size_t>(input->GetNumberOfCells()), "cell", "cells") +
+      " in the input).");
+  }
+  catch (const std::exception& e)
+  {
+    this->Fail(std::string("failed: ") + e.what());
+  }
+  return false;
+}
+
+//------------------------------------------------------------------------------
 int vtkFEMorphAlgorithm::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -223,6 +265,22 @@ int vtkFEMorphAlgorithm::RequestData(
     ~ClearProgressText() { this->Algorithm->SetProgressText(nullptr); }
   } clearProgressText{ this };
 
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (controller && controller->GetNumberOfProcesses() > 1)
+  {
+    switch (this->GetPieceMode())
+    {
+      case PerPiece: return this->RunPerPiece(controller, inputVector, outputVector);
+      case Gathered: return this->RunGathered(controller, inputVector, outputVector);
+      case Serial: break;
+    }
+  }
+  return this->RunSerial(inputVector, outputVector);
+}
+
+int vtkFEMorphAlgorithm::RunSerial(
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
   if (!input)
   {
@@ -236,38 +294,11 @@ int vtkFEMorphAlgorithm::RequestData(
       "); the output is empty.");
     return 1;
   }
-  if (!this->CheckProperties())
+  if (!this->CheckProperties() || !this->CheckInputs(inputVector))
   {
     return 0;
   }
-  for (int port = 0; port < this->GetNumberOfInputPorts(); ++port)
-  {
-    vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(inputVector[port], 0);
-    // An optional input without cells counts as absent (the filter says so).
-    if (grid && (port == 0 || grid->GetNumberOfCells() > 0) && !this->CheckInputGrid(grid, port))
-    {
-      return 0;
-    }
-  }
-
-  bool ok = false;
-  this->UpdateProgress(0.0);
-  try
-  {
-    ok = this->Execute(input, inputVector, outputVector);
-  }
-  catch (const std::bad_alloc&)
-  {
-    this->Fail("out of memory (" +
-      Plural(static_cast<std::size_t>(input->GetNumberOfCells()), "cell", "cells") +
-      " in the input).");
-    ok = false;
-  }
-  catch (const std::exception& e)
-  {
-    this->Fail(std::string("failed: ") + e.what());
-    ok = false;
-  }
+  const bool ok = this->RunExecute(input, inputVector, outputVector);
   if (this->Aborted || !ok)
   {
     this->ClearOutputs(outputVector);
@@ -275,4 +306,97 @@ int vtkFEMorphAlgorithm::RequestData(
   }
   this->UpdateProgress(1.0);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkFEMorphAlgorithm::RunPerPiece(vtkMultiProcessController* controller,
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // Every process takes each collective step, whatever its piece: the
+  // decisions to go on are reductions, so no process waits for another
+  // that stopped.
+  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0], 0);
+  const bool propertiesOk = this->CheckProperties(); // same on every process
+  const vtkIdType localCells = input ? input->GetNumberOfCells() : 0;
+  const int localOk = input && (localCells == 0 || this->CheckInputs(inputVector)) ? 1 : 0;
+  long long cellsAndBad[2] = { static_cast<long long>(localCells), localOk ? 0 : 1 };
+  long long global[2] = { 0, 0 };
+  controller->AllReduce(cellsAndBad, global, 2, vtkCommunicator::SUM_OP);
+  if (!propertiesOk)
+  {
+    return 0;
+  }
+  if (global[1] > 0)
+  {
+    if (localOk)
+    {
+      this->Fail("the piece of " + Plural(static_cast<std::size_t>(global[1]), "other process",
+        "other processes") + " was refused (see its message); the output is empty.");
+    }
+    return 0;
+  }
+  if (global[0] == 0)
+  {
+    if (controller->GetLocalProcessId() == 0)
+    {
+      this->Warn(GetInputName(0) + " has no cells on any process; the output is empty.");
+    }
+    return 1;
+  }
+  // An empty piece runs too: its Execute() gives an empty output and
+  // neutral summaries for the reductions.
+  const int ok = this->RunExecute(input, inputVector, outputVector) && !this->Aborted ? 1 : 0;
+  int allOk = 0;
+  controller->AllReduce(&ok, &allOk, 1, vtkCommunicator::MIN_OP);
+  if (!allOk)
+  {
+    this->ClearOutputs(outputVector);
+    return this->Aborted ? 1 : 0;
+  }
+  this->CombinePieces(controller, outputVector);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkFEMorphAlgorithm::RunGathered(vtkMultiProcessController* controller,
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // Each connected input's pieces on process 0 (a port is connected on every
+  // process or on none: the pipeline is the same).
+  const int numPorts = this->GetNumberOfInputPorts();
+  const bool root = controller->GetLocalProcessId() == 0;
+  std::vector<vtkSmartPointer<vtkInformationVector>> gathered(static_cast<std::size_t>(numPorts));
+  std::vector<vtkInformationVector*> vectors(static_cast<std::size_t>(numPorts));
+  for (int port = 0; port < numPorts; ++port)
+  {
+    auto& vector = gathered[static_cast<std::size_t>(port)];
+    vector = vtkSmartPointer<vtkInformationVector>::New();
+    vectors[static_cast<std::size_t>(port)] = vector;
+    if (inputVector[port]->GetNumberOfInformationObjects() == 0)
+    {
+      continue;
+    }
+    vtkSmartPointer<vtkUnstructuredGrid> merged = vtkFEMorphPieces::Gather(
+      controller, vtkUnstructuredGrid::GetData(inputVector[port], 0));
+    if (root)
+    {
+      vtkNew<vtkInformation> info;
+      info->Set(vtkDataObject::DATA_OBJECT(), merged);
+      vector->Append(info);
+    }
+  }
+  if (!root)
+  {
+    return 1;
+  }
+  const int result = this->RunSerial(vectors.data(), outputVector);
+  if (result && !this->Aborted)
+  {
+    for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)
+    {
+      vtkFEMorphPieces::AddGlobalIds(vtkDataSet::GetData(outputVector, port));
+    }
+  }
+  return result;
 }

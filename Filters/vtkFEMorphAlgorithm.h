@@ -30,6 +30,21 @@
  * clamp macros let NaN through) and Execute(), and passes its label and the
  * cells it reads to the constructor.
  *
+ * Parallel runs (pvbatch, pvserver under MPI; docs/ARCHITECTURE.md "Parallel
+ * runs"): with the global controller's more than one process, a filter runs
+ * in its GetPieceMode():
+ * - Serial: each process runs the filter on its piece alone (as with one
+ *   process);
+ * - PerPiece: each process runs it on its piece; an empty piece is no
+ *   error; the run goes on only when every piece passed the checks, and
+ *   CombinePieces() then makes the field-data summaries global (the filter
+ *   leaves ghost cells out of its counts);
+ * - Gathered: every input's pieces go to process 0 without their ghost
+ *   cells, with shared points merged (vtkFEMorphPieces::Gather); process 0
+ *   runs the filter on the whole mesh and its outputs get global point and
+ *   cell ids; the other processes output empty data.
+ * With no controller or one process, every mode is the serial run.
+ *
  * @sa vtkFEMorphMeshConversion
  */
 #ifndef vtkFEMorphAlgorithm_h
@@ -45,6 +60,7 @@
 #include <vector>     // For std::vector
 
 class vtkFieldData;
+class vtkMultiProcessController;
 
 namespace femorph
 {
@@ -91,6 +107,14 @@ protected:
     AnyCells
   };
 
+  /// How the filter runs on a distributed input (see the class documentation).
+  enum PieceMode
+  {
+    Serial,
+    PerPiece,
+    Gathered
+  };
+
   vtkFEMorphAlgorithm(const char* label, InputCells cells);
   ~vtkFEMorphAlgorithm() override;
 
@@ -113,6 +137,16 @@ protected:
    */
   virtual bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) = 0;
+
+  /// The filter's mode on a distributed input; Serial unless overridden.
+  virtual PieceMode GetPieceMode() const { return Serial; }
+
+  /**
+   * PerPiece mode, more than one process: called on every process after
+   * every piece's Execute() succeeded, to combine the outputs' summaries
+   * over the processes with the controller's reductions (collective).
+   */
+  virtual void CombinePieces(vtkMultiProcessController*, vtkInformationVector*) {}
 
   /// How messages name input port `port`: "the input" for port 0, "the
   /// Reference input" for a port the filter names so.
@@ -170,6 +204,17 @@ private:
 
   /// The skeleton's checks of one input grid; reports with Fail().
   bool CheckInputGrid(vtkUnstructuredGrid* grid, int port);
+  /// The checks of every connected input port (port 0 has cells).
+  bool CheckInputs(vtkInformationVector** inputVector);
+  /// Execute() inside try/catch; false on failure.
+  bool RunExecute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector);
+  /// The serial skeleton on the given inputs (RequestData's return value).
+  int RunSerial(vtkInformationVector** inputVector, vtkInformationVector* outputVector);
+  int RunPerPiece(vtkMultiProcessController* controller, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector);
+  int RunGathered(vtkMultiProcessController* controller, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector);
   void ClearOutputs(vtkInformationVector* outputVector);
 
   const char* FilterLabel;

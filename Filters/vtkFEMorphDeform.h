@@ -158,6 +158,9 @@ protected:
   vtkFEMorphDeform();
   ~vtkFEMorphDeform() override;
 
+  /// Gathered on process 0: the deformable region and its solve span the whole mesh.
+  PieceMode GetPieceMode() const override { return Gathered; }
+
   bool CheckProperties() override;
   bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;

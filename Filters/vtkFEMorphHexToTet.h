@@ -142,6 +142,9 @@ protected:
   vtkFEMorphHexToTet();
   ~vtkFEMorphHexToTet() override;
 
+  /// Gathered on process 0: each quad's diagonal follows its global point ids.
+  PieceMode GetPieceMode() const override { return Gathered; }
+
   bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 

@@ -304,6 +304,9 @@ protected:
   vtkFEMorphImprove();
   ~vtkFEMorphImprove() override;
 
+  /// Gathered on process 0: remeshing a piece alone would crack the mesh along the cut.
+  PieceMode GetPieceMode() const override { return Gathered; }
+
   bool CheckProperties() override;
   bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;

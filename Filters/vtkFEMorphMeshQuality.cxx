@@ -3,6 +3,8 @@
 #include "vtkFEMorphMeshConversion.h"
 
 #include "vtkCellData.h"
+#include "vtkCommunicator.h"
+#include "vtkMultiProcessController.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkInformationVector.h"
@@ -49,6 +51,84 @@ struct Summary
   double GetMax() const { return this->Count ? this->Max : NaN; }
   double GetMean() const { return this->Count ? this->Sum / this->Count : NaN; }
 };
+
+// The summaries and counts of one piece or of the whole mesh.
+constexpr std::size_t PackedSummaryValues = 4 * 4; // 4 summaries of 4 values
+enum Count
+{
+  InvertedCount,
+  ZeroVolumeCount,
+  InvalidCount,
+  BelowThresholdCount,
+  TetraCount,
+  PyramidCount,
+  WedgeCount,
+  HexahedronCount,
+  SkippedCellCount,
+  NumCounts
+};
+struct Totals
+{
+  Summary Stretch, Jacobian, MinDihedral, MaxDihedral;
+  std::array<vtkIdType, NumCounts> Counts{};
+
+  std::array<Summary*, 4> Summaries() { return { &Stretch, &Jacobian, &MinDihedral, &MaxDihedral }; }
+
+  // Flattened: min, max, sum, count of each summary, then the counts.
+  std::vector<double> Pack()
+  {
+    std::vector<double> v;
+    for (Summary* s : this->Summaries())
+    {
+      v.insert(v.end(), { s->Min, s->Max, s->Sum, static_cast<double>(s->Count) });
+    }
+    for (vtkIdType c : this->Counts)
+    {
+      v.push_back(static_cast<double>(c));
+    }
+    return v;
+  }
+  void Unpack(const std::vector<double>& v)
+  {
+    std::size_t i = 0;
+    for (Summary* s : this->Summaries())
+    {
+      s->Min = v[i++];
+      s->Max = v[i++];
+      s->Sum = v[i++];
+      s->Count = static_cast<vtkIdType>(v[i++]);
+    }
+    for (vtkIdType& c : this->Counts)
+    {
+      c = static_cast<vtkIdType>(v[i++]);
+    }
+  }
+};
+
+void WriteTotals(vtkFieldData* fd, const Totals& t, double threshold)
+{
+  using A = vtkFEMorphAlgorithm;
+  A::AddValue(fd, "StretchMin", t.Stretch.GetMin());
+  A::AddValue(fd, "StretchMean", t.Stretch.GetMean());
+  A::AddValue(fd, "StretchMax", t.Stretch.GetMax());
+  A::AddValue(fd, "ScaledJacobianMin", t.Jacobian.GetMin());
+  A::AddValue(fd, "ScaledJacobianMean", t.Jacobian.GetMean());
+  A::AddValue(fd, "ScaledJacobianMax", t.Jacobian.GetMax());
+  A::AddValue(fd, "MinDihedralAngleMin", t.MinDihedral.GetMin());
+  A::AddValue(fd, "MinDihedralAngleMean", t.MinDihedral.GetMean());
+  A::AddValue(fd, "MaxDihedralAngleMean", t.MaxDihedral.GetMean());
+  A::AddValue(fd, "MaxDihedralAngleMax", t.MaxDihedral.GetMax());
+  A::AddValue(fd, "StretchThreshold", threshold);
+  A::AddCount(fd, "InvertedCount", t.Counts[InvertedCount]);
+  A::AddCount(fd, "ZeroVolumeCount", t.Counts[ZeroVolumeCount]);
+  A::AddCount(fd, "InvalidCount", t.Counts[InvalidCount]);
+  A::AddCount(fd, "BelowThresholdCount", t.Counts[BelowThresholdCount]);
+  A::AddCount(fd, "TetraCount", t.Counts[TetraCount]);
+  A::AddCount(fd, "PyramidCount", t.Counts[PyramidCount]);
+  A::AddCount(fd, "WedgeCount", t.Counts[WedgeCount]);
+  A::AddCount(fd, "HexahedronCount", t.Counts[HexahedronCount]);
+  A::AddCount(fd, "SkippedCellCount", t.Counts[SkippedCellCount]);
+}
 
 vtkSmartPointer<vtkDoubleArray> NewCellArray(const char* name, vtkIdType n)
 {
@@ -110,9 +190,19 @@ bool vtkFEMorphMeshQuality::Execute(
   invalid->SetNumberOfTuples(numCells);
   invalid->Fill(0);
 
-  Summary stretchSummary, jacobianSummary, minDihedralSummary, maxDihedralSummary;
+  // Ghost cells (another piece's own, under MPI) get their values but stay
+  // out of the counts and summaries: each cell is counted by one piece.
+  vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
+  auto isGhost = [ghosts](vtkIdType c) {
+    return ghosts && (ghosts->GetValue(c) & vtkDataSetAttributes::DUPLICATECELL) != 0;
+  };
+  Totals totals;
+  Summary& stretchSummary = totals.Stretch;
+  Summary& jacobianSummary = totals.Jacobian;
+  Summary& minDihedralSummary = totals.MinDihedral;
+  Summary& maxDihedralSummary = totals.MaxDihedral;
   vtkIdType invertedCount = 0, invertedTets = 0, zeroVolumeCount = 0, belowThresholdCount = 0,
-            invalidCount = 0;
+            invalidCount = 0, ghostTets = 0;
   std::array<vtkIdType, 4> kindCounts{};
 
   std::vector<femorph::Tet> chunkTets;
@@ -131,9 +221,11 @@ bool vtkFEMorphMeshQuality::Execute(
       const femorph::CellKind kind = cells.kinds[i];
       const femorph::index_t* nodes = cells.nodes(static_cast<femorph::index_t>(i));
       const vtkIdType c = cellIds[i];
-      ++kindCounts[static_cast<int>(kind)];
+      const bool ghost = isGhost(c);
+      kindCounts[static_cast<int>(kind)] += ghost ? 0 : 1;
       if (kind == femorph::CellKind::Tetra)
       {
+        ghostTets += ghost ? 1 : 0;
         chunkTets.push_back({ { nodes[0], nodes[1], nodes[2], nodes[3] } });
         chunkTetCells.push_back(c);
         continue;
@@ -146,16 +238,20 @@ bool vtkFEMorphMeshQuality::Execute(
       }
       const double minValue = femorph::min_scaled_jacobian(kind, corners);
       scaledJacobian->SetValue(c, minValue);
-      jacobianSummary.Add(minValue);
+      const vtkIdType counted = ghost ? 0 : 1;
+      if (!ghost)
+      {
+        jacobianSummary.Add(minValue);
+      }
       if (minValue < 0)
       {
         inverted->SetValue(c, 1);
-        ++invertedCount;
+        invertedCount += counted;
       }
       if (!femorph::is_valid_cell(kind, corners))
       {
         invalid->SetValue(c, 1);
-        ++invalidCount;
+        invalidCount += counted;
       }
     }
 
@@ -180,31 +276,36 @@ bool vtkFEMorphMeshQuality::Execute(
       scaledJacobian->SetValue(c, tetJacobian[i]);
       minDihedral->SetValue(c, minAngle);
       maxDihedral->SetValue(c, maxAngle);
-      stretchSummary.Add(tetStretch[i]);
-      jacobianSummary.Add(tetJacobian[i]);
-      minDihedralSummary.Add(minAngle);
-      maxDihedralSummary.Add(maxAngle);
+      const bool ghost = isGhost(c);
+      const vtkIdType counted = ghost ? 0 : 1;
+      if (!ghost)
+      {
+        stretchSummary.Add(tetStretch[i]);
+        jacobianSummary.Add(tetJacobian[i]);
+        minDihedralSummary.Add(minAngle);
+        maxDihedralSummary.Add(maxAngle);
+      }
       // Exact sign: a float volume of a nearly flat tet may have either sign.
       const int sign =
         femorph::orient3d_sign(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
       if (sign <= 0)
       {
         invalid->SetValue(c, 1);
-        ++invalidCount;
+        invalidCount += counted;
       }
       if (sign < 0)
       {
         inverted->SetValue(c, 1);
-        ++invertedCount;
+        invertedCount += counted;
         ++invertedTets;
       }
       else if (sign == 0)
       {
-        ++zeroVolumeCount;
+        zeroVolumeCount += counted;
       }
       if (tetStretch[i] < this->StretchThreshold)
       {
-        ++belowThresholdCount;
+        belowThresholdCount += counted;
       }
     }
     if (!this->Progress(static_cast<double>(end) / numRead))
@@ -218,6 +319,16 @@ bool vtkFEMorphMeshQuality::Execute(
   {
     skippedCount += n;
   }
+  // Skipped ghost cells: the ghosts among all cells but not among those read.
+  vtkIdType skippedGhosts = 0;
+  for (vtkIdType c = 0; ghosts && c < numCells; ++c)
+  {
+    skippedGhosts += isGhost(c) ? 1 : 0;
+  }
+  for (vtkIdType i = 0; ghosts && i < numRead; ++i)
+  {
+    skippedGhosts -= isGhost(cellIds[i]) ? 1 : 0;
+  }
   if (skippedCount > 0)
   {
     this->Warn("tetrahedra, hexahedra, wedges and pyramids are evaluated, nothing else; " +
@@ -225,7 +336,7 @@ bool vtkFEMorphMeshQuality::Execute(
       (skippedCount == 1 ? " gets" : " get") + " NaN in the quality arrays.");
   }
   const vtkIdType tetraCount = kindCounts[static_cast<int>(femorph::CellKind::Tetra)];
-  if (tetraCount > 0 && invertedTets == tetraCount)
+  if (tetraCount > 0 && invertedTets == tetraCount + ghostTets)
   {
     this->Warn("all " + std::to_string(tetraCount) +
       " tetrahedra have negative volume: the mesh probably uses the opposite vertex order to "
@@ -246,25 +357,42 @@ bool vtkFEMorphMeshQuality::Execute(
   // (they share the input's arrays only), so adding arrays leaves the input
   // untouched (checked by TestMeshQuality).
   vtkFieldData* fd = output->GetFieldData();
-  AddValue(fd, "StretchMin", stretchSummary.GetMin());
-  AddValue(fd, "StretchMean", stretchSummary.GetMean());
-  AddValue(fd, "StretchMax", stretchSummary.GetMax());
-  AddValue(fd, "ScaledJacobianMin", jacobianSummary.GetMin());
-  AddValue(fd, "ScaledJacobianMean", jacobianSummary.GetMean());
-  AddValue(fd, "ScaledJacobianMax", jacobianSummary.GetMax());
-  AddValue(fd, "MinDihedralAngleMin", minDihedralSummary.GetMin());
-  AddValue(fd, "MinDihedralAngleMean", minDihedralSummary.GetMean());
-  AddValue(fd, "MaxDihedralAngleMean", maxDihedralSummary.GetMean());
-  AddValue(fd, "MaxDihedralAngleMax", maxDihedralSummary.GetMax());
-  AddValue(fd, "StretchThreshold", this->StretchThreshold);
-  AddCount(fd, "InvertedCount", invertedCount);
-  AddCount(fd, "ZeroVolumeCount", zeroVolumeCount);
-  AddCount(fd, "InvalidCount", invalidCount);
-  AddCount(fd, "BelowThresholdCount", belowThresholdCount);
-  AddCount(fd, "TetraCount", tetraCount);
-  AddCount(fd, "PyramidCount", kindCounts[static_cast<int>(femorph::CellKind::Pyramid)]);
-  AddCount(fd, "WedgeCount", kindCounts[static_cast<int>(femorph::CellKind::Wedge)]);
-  AddCount(fd, "HexahedronCount", kindCounts[static_cast<int>(femorph::CellKind::Hexahedron)]);
-  AddCount(fd, "SkippedCellCount", skippedCount);
+  totals.Counts[InvertedCount] = invertedCount;
+  totals.Counts[ZeroVolumeCount] = zeroVolumeCount;
+  totals.Counts[InvalidCount] = invalidCount;
+  totals.Counts[BelowThresholdCount] = belowThresholdCount;
+  totals.Counts[TetraCount] = tetraCount;
+  totals.Counts[PyramidCount] = kindCounts[static_cast<int>(femorph::CellKind::Pyramid)];
+  totals.Counts[WedgeCount] = kindCounts[static_cast<int>(femorph::CellKind::Wedge)];
+  totals.Counts[HexahedronCount] = kindCounts[static_cast<int>(femorph::CellKind::Hexahedron)];
+  totals.Counts[SkippedCellCount] = skippedCount - skippedGhosts;
+  WriteTotals(fd, totals, this->StretchThreshold);
+  this->PieceTotals = totals.Pack();
   return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkFEMorphMeshQuality::CombinePieces(
+  vtkMultiProcessController* controller, vtkInformationVector* outputVector)
+{
+  // Every piece ran Execute() (an empty one too), so PieceTotals has the
+  // same layout everywhere: min, max, sum, count per summary, then counts.
+  const std::vector<double> local = this->PieceTotals;
+  const std::size_t n = local.size();
+  std::vector<double> mins(n), maxs(n), sums(n);
+  controller->AllReduce(local.data(), mins.data(), static_cast<vtkIdType>(n), vtkCommunicator::MIN_OP);
+  controller->AllReduce(local.data(), maxs.data(), static_cast<vtkIdType>(n), vtkCommunicator::MAX_OP);
+  controller->AllReduce(local.data(), sums.data(), static_cast<vtkIdType>(n), vtkCommunicator::SUM_OP);
+  std::vector<double> global = sums;
+  for (std::size_t s = 0; s < PackedSummaryValues && s + 4 <= n; s += 4)
+  {
+    global[s] = mins[s];
+    global[s + 1] = maxs[s + 1];
+  }
+  Totals totals;
+  totals.Unpack(global);
+  if (vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0))
+  {
+    WriteTotals(output->GetFieldData(), totals, this->StretchThreshold);
+  }
 }

@@ -64,8 +64,13 @@
  *   and flat ones included), `TetraCount`, `PyramidCount`, `WedgeCount`,
  *   `HexahedronCount` (hexahedra and voxels), `SkippedCellCount` (cells not
  *   evaluated).
- * Statistics over an empty set are NaN. Means and counts can be combined
- * across distributed pieces (mean x count).
+ * Statistics over an empty set are NaN.
+ *
+ * Distributed (MPI): each process evaluates its piece; ghost cells
+ * (vtkGhostType with DUPLICATECELL) get their arrays but are left out of
+ * every count and summary, and the summaries are combined over the
+ * processes, so every process's field data is the whole mesh's. An empty
+ * piece is no error.
  *
  * An input without cells gives an empty output and a warning.
  * NaN or infinite point coordinates are an error (the message gives their
@@ -83,6 +88,8 @@
 
 #include "FEMorphFiltersModule.h" // For export macro
 #include "vtkFEMorphAlgorithm.h"
+
+#include <vector> // For std::vector
 
 class FEMORPHFILTERS_EXPORT vtkFEMorphMeshQuality : public vtkFEMorphAlgorithm
 {
@@ -104,6 +111,11 @@ protected:
   vtkFEMorphMeshQuality();
   ~vtkFEMorphMeshQuality() override;
 
+  /// Per piece: ghost cells are left out of the counts and summaries, which
+  /// CombinePieces() makes global.
+  PieceMode GetPieceMode() const override { return PerPiece; }
+  void CombinePieces(vtkMultiProcessController* controller, vtkInformationVector* outputVector) override;
+
   bool CheckProperties() override;
   bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
@@ -111,6 +123,9 @@ protected:
   double StretchThreshold = 0.05;
 
 private:
+  /// The last Execute()'s summaries and counts, flattened for the reductions.
+  std::vector<double> PieceTotals;
+
   vtkFEMorphMeshQuality(const vtkFEMorphMeshQuality&) = delete;
   void operator=(const vtkFEMorphMeshQuality&) = delete;
 };

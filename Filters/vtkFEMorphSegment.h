@@ -178,6 +178,9 @@ protected:
   vtkFEMorphSegment();
   ~vtkFEMorphSegment() override;
 
+  /// Gathered on process 0: regions span the pieces.
+  PieceMode GetPieceMode() const override { return Gathered; }
+
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   bool CheckProperties() override;
   bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,

@@ -108,6 +108,9 @@ protected:
   vtkFEMorphTetToHex();
   ~vtkFEMorphTetToHex() override;
 
+  /// Gathered on process 0: the recombination is one greedy over the whole mesh.
+  PieceMode GetPieceMode() const override { return Gathered; }
+
   bool CheckProperties() override;
   bool Execute(vtkUnstructuredGrid* input, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;

@@ -21,6 +21,9 @@ packages=(
   libgtest-dev libbenchmark-dev python3-numpy libcgal-dev libgmp-dev libmpfr-dev
   # Pictures from pvbatch need an X server (Debian's ParaView has no EGL/OSMesa).
   xvfb xauth
+  # Python.Distributed: mpiexec (ParaView's MPI is OpenMPI); Python.GUI: the
+  # ParaView GUI itself.
+  openmpi-bin paraview
   # Data/generate_parts.py: CAD parts through Gmsh's OpenCASCADE kernel.
   python3-gmsh gmsh
   # Testing/FEA: the CalculiX solver (the FEA.Harness test is skipped without it).
