@@ -22,6 +22,10 @@ cmake -S . -B build -DCMAKE_BUILD_TYPE=Release \
   -DFEMORPH_SANITIZE=OFF
 cmake --build build -j"$jobs"
 (cd build && ctest --output-on-failure -j"$jobs" --timeout 1800) || status=1
+# Python.GUI's screenshots of every filter in the ParaView GUI (artifacts).
+if ls build/Testing/Python/gui/*.png >/dev/null 2>&1; then
+  echo "=== GUI screenshots: $(pwd)/build/Testing/Python/gui/"
+fi
 
 echo "=== Core, filter and corpus tests with AddressSanitizer + UBSan (build-asan/)"
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \

@@ -1,0 +1,81 @@
+"""FEMorph in the ParaView GUI (issue 29): starts `paraview --script=gui_filters.py`
+under Xvfb, which applies every filter from its proxy with its defaults on a
+Data/ mesh and saves a screenshot of each into --out (kept by CI as
+artifacts). Fails when a filter gives an empty output, when the GUI's output
+window (Output Messages) received an error, or when a screenshot is
+missing. Exit 77 (skipped) without `paraview` or `xvfb-run`.
+"""
+import argparse
+import glob
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+FILTERS = ["MeshQuality", "Segment", "Improve", "Deform", "Adapt", "HexToTet", "TetToHex"]
+
+
+def colours(png):
+    """Distinct colours of a picture: a view without the mesh has a few."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    import numpy as np
+    r = vtkPNGReader()
+    r.SetFileName(png)
+    r.Update()
+    pixels = vtk_to_numpy(r.GetOutput().GetPointData().GetScalars())
+    return len(np.unique(pixels.reshape(len(pixels), -1), axis=0))
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--plugin", required=True)
+    parser.add_argument("--data", required=True, help="FEMorph's Data folder")
+    parser.add_argument("--out", required=True, help="folder of the screenshots")
+    parser.add_argument("--paraview", default="paraview")
+    parser.add_argument("--xvfb-run", default="xvfb-run")
+    args = parser.parse_args()
+    paraview, xvfb = shutil.which(args.paraview), shutil.which(args.xvfb_run)
+    if not paraview or not xvfb:
+        print("SKIP: %s not found" % (args.paraview if not paraview else args.xvfb_run))
+        return 77
+    os.makedirs(args.out, exist_ok=True)
+    for old in glob.glob(os.path.join(args.out, "*")):
+        os.remove(old)
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_"))}
+    env.update(FEMORPH_PLUGIN=args.plugin, FEMORPH_DATA=args.data, FEMORPH_GUI_OUT=args.out)
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "gui_filters.py")
+    cmd = [xvfb, "-a", "-s", "-noreset -screen 0 1280x1024x24", paraview, "--script=" + script]
+    proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                          timeout=400)
+    result_path = os.path.join(args.out, "result.json")
+    if not os.path.exists(result_path):
+        print(proc.stdout)
+        print("FAIL: the GUI script wrote no result (paraview returned %d)" % proc.returncode)
+        return 1
+    result = json.load(open(result_path))
+    failures = list(result["failures"])
+    for name in FILTERS:
+        r = result["filters"].get(name)
+        if r is None:
+            failures.append("%s was not applied" % name)
+            continue
+        print("%s: %d cells, screenshot %s" % (name, r["cells"], r["screenshot"]))
+        if r["cells"] == 0:
+            failures.append("%s: empty output" % name)
+        if r["errors"]:
+            failures.append("%s: Output Messages has errors: %s" % (name, r["errors"]))
+        if not r["screenshot"] or colours(r["screenshot"]) < 8:
+            failures.append("%s: no screenshot, or one without the mesh" % name)
+    errors = [m for m in result["messages"] if "ERROR" in m]
+    if errors:
+        failures.append("errors in Output Messages: %s" % errors)
+    for f in failures:
+        print("FAIL:", f)
+    print("screenshots in %s" % args.out)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
