@@ -1,7 +1,8 @@
 """FEMorph's filters under MPI against their serial run (issue 29).
 
 Run by pvbatch (one process): runs every case serially, then runs this script
-again under `mpiexec -np 2 pvbatch ... --mpi` and compares. Under MPI each
+again under `mpiexec -np 2 pvbatch ... --mpi`, and as the pvpython client of
+`mpiexec -np 2 pvserver` for PVSERVER_CASES, and compares. Under MPI each
 case's input is distributed by RedistributeDataSet (pieces without ghost
 cells), by D3 (ghost cells), or left on process 0 (an empty piece on the
 other). Compared, exactly: the cells (ghost cells left out), the regions
@@ -179,10 +180,17 @@ def run_case(builder, src, distribution):
     return out, others
 
 
-def compute(args, distributions):
-    LoadPlugin(args.plugin, ns=globals())
+def compute(args, distributions, only=None):
+    if args.client:
+        from paraview.simple import Connect
+        Connect("localhost", args.client)
+        LoadPlugin(args.plugin, remote=True, ns=globals())
+    else:
+        LoadPlugin(args.plugin, ns=globals())
     results = {}
     for name, src, builder, dists in cases(args.data):
+        if only and name not in only:
+            continue
         local = os.path.join(args.work, os.path.basename(src))
         if not os.path.exists(local):
             with_global_ids(src, local)
@@ -197,6 +205,57 @@ def compute(args, distributions):
     return results
 
 
+# The filters run through pvserver too (with every distribution): one per
+# mode, and the order-dependent gathered ones.
+PVSERVER_CASES = ["MeshQuality", "Improve"]
+
+
+def free_port():
+    import socket
+    with socket.socket() as s:
+        s.bind(("localhost", 0))
+        return s.getsockname()[1]
+
+
+def run_pvserver(args, mpiexec, env):
+    """`mpiexec -np N pvserver` and this script as its pvpython client:
+    the client's results (None on failure) and both logs."""
+    import threading
+    bindir = os.path.dirname(args.pvbatch)
+    pvserver, pvpython = os.path.join(bindir, "pvserver"), os.path.join(bindir, "pvpython")
+    port = free_port()
+    out = os.path.join(args.work, "pvserver.json")
+    server = subprocess.Popen([mpiexec, "--allow-run-as-root", "--oversubscribe", "-np",
+                               str(args.processes), pvserver, "--server-port=%d" % port],
+                              env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    lines = []
+    ready = threading.Event()
+
+    def read():
+        for line in server.stdout:
+            lines.append(line)
+            if "Accepting connection" in line:
+                ready.set()
+        ready.set()
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    ready.wait(120)
+    client = subprocess.run([pvpython, os.path.abspath(__file__), "--plugin", args.plugin, "--data",
+                             args.data, "--work", args.work, "--client", str(port), "--mpi", out],
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            timeout=300)
+    try:
+        server.wait(60)
+    except subprocess.TimeoutExpired:
+        server.kill()
+        server.wait()
+    reader.join(10)
+    log = "pvserver:\n" + "".join(lines) + "\npvpython client:\n" + client.stdout
+    if client.returncode != 0 or not os.path.exists(out):
+        return None, log
+    return json.load(open(out)), log
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--plugin", required=True)
@@ -206,12 +265,17 @@ def main():
     parser.add_argument("--pvbatch", default=shutil.which("pvbatch"))
     parser.add_argument("--mpi", help="(internal) run the distributed cases, write their results here")
     parser.add_argument("--work", help="(internal) folder of the inputs with global ids")
+    parser.add_argument("--client", type=int, help="(internal) pvpython client of a pvserver on this port")
     args = parser.parse_args()
 
     if args.mpi:
-        results = compute(args, ["redistribute", "d3", "rank0"])
+        only = PVSERVER_CASES if args.client else None
+        results = compute(args, ["redistribute", "d3", "rank0"], only)
         with open(args.mpi, "w") as f:
             json.dump(results, f)
+        if args.client:
+            from paraview.simple import Disconnect
+            Disconnect()
         return 0
 
     mpiexec = shutil.which(args.mpiexec)
@@ -235,10 +299,19 @@ def main():
         return 1
     errors = [line for line in proc.stdout.splitlines() if "ERROR" in line or "Error" in line]
     distributed = json.load(open(out))
+    # The same filters in ParaView's client-server mode: pvpython connected to
+    # `mpiexec -np 2 pvserver`.
+    served, log = run_pvserver(args, mpiexec, env)
+    print(log)
+    if served is None:
+        errors.append("the pvserver run gave no result")
+    else:
+        errors += [line for line in log.splitlines() if "ERROR" in line or "Error" in line]
+        distributed.update({"pvserver " + k: v for k, v in served.items()})
     failures = list(errors)
     compared = 0
     for key, got in sorted(distributed.items()):
-        name = key.split()[0]
+        name = key.split()[1] if key.startswith("pvserver ") else key.split()[0]
         want = serial[name + " serial"]
         compared += 1
         if got.get("faces in more than two cells", 0) != 0:
@@ -252,7 +325,7 @@ def main():
             failures.append("%s differs from serial (serial, distributed): %s" % (key, diff))
         else:
             print("OK %s: %s" % (key, got))
-    if compared < 16:
+    if compared < 16 + 2 * len(PVSERVER_CASES):
         failures.append("only %d distributed results" % compared)
     shutil.rmtree(args.work, ignore_errors=True)
     for f in failures:
