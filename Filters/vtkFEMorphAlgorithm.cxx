@@ -377,8 +377,17 @@ int vtkFEMorphAlgorithm::RunGathered(vtkMultiProcessController* controller,
     {
       continue;
     }
-    vtkSmartPointer<vtkUnstructuredGrid> merged = vtkFEMorphPieces::Gather(
-      controller, vtkUnstructuredGrid::GetData(inputVector[port], 0));
+    // A port of another type (Adapt's Motion table) is the same on every
+    // process or read by process 0 alone: process 0 keeps its own.
+    vtkDataObject* data = vtkDataObject::GetData(inputVector[port], 0);
+    if (!vtkUnstructuredGrid::SafeDownCast(data))
+    {
+      vector = inputVector[port];
+      vectors[static_cast<std::size_t>(port)] = vector;
+      continue;
+    }
+    vtkSmartPointer<vtkUnstructuredGrid> merged =
+      vtkFEMorphPieces::Gather(controller, vtkUnstructuredGrid::SafeDownCast(data));
     if (root)
     {
       vtkNew<vtkInformation> info;

@@ -39,8 +39,9 @@
  *   error; the run goes on only when every piece passed the checks, and
  *   CombinePieces() then makes the field-data summaries global (the filter
  *   leaves ghost cells out of its counts);
- * - Gathered: every input's pieces go to process 0 without their ghost
- *   cells, with shared points merged (vtkFEMorphPieces::Gather); process 0
+ * - Gathered: every grid input's pieces go to process 0 without their ghost
+ *   cells, with shared points merged (vtkFEMorphPieces::Gather; an input of
+ *   another type, such as a table, is process 0's own); process 0
  *   runs the filter on the whole mesh and its outputs get global point and
  *   cell ids; the other processes output empty data.
  * With no controller or one process, every mode is the serial run.
