@@ -54,6 +54,8 @@ def cases(data):
         ("MeshQuality", boss, lambda s: FEMorphMeshQuality(Input=s), both + ["rank0"]),  # noqa: F821
         ("Segment", boss, lambda s: FEMorphSegment(Input=s), both),  # noqa: F821
         ("Improve", beam, lambda s: FEMorphImprove(Input=s), both),  # noqa: F821
+        # Two gathered grid inputs: the Reference is the same distributed mesh.
+        ("ImproveReference", beam, lambda s: FEMorphImprove(Input=s, Reference=s), both),  # noqa: F821
         ("Deform", beam, lambda s: FEMorphDeform(  # noqa: F821
             Input=FEMorphSegment(Input=s), DeformationType=0, UseControlPoint=1,  # noqa: F821
             ControlPoint=[50, 10, 5], TargetValue=20), both),
