@@ -81,9 +81,15 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
   }
   // Beyond the thesis: with a space mesh too, one ring of the fixed
   // objects' tets around the zone, so that 3.6 may move the zone's boundary
-  // vertices inside those objects (the refill's worst tets end there).
+  // vertices inside those objects (the refill's worst tets end there); while
+  // the objects touch (faces in contact), the moving object's ring too (its
+  // contact side took the other's points; its interior may follow).
   std::vector<index_t> fixed_ring;
-  if (!assembly_ && !zone.empty()) fixed_ring = fixed_object_ring(zone);
+  if (!assembly_ && !zone.empty()) {
+    const bool touching = std::any_of(contacts.begin(), contacts.end(),
+                                      [](const ContactRegion& c) { return c.moving_area > 0; });
+    fixed_ring = fixed_object_ring(zone, touching);
+  }
   const std::vector<index_t> deformed = region;
   const auto with_zone = [&](const std::vector<index_t>& ring) {
     std::vector<index_t> out = deformed;
