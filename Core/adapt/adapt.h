@@ -302,6 +302,10 @@ class AdaptSession {
   std::vector<ContactRegion> find_contacts(const RigidPose& to) const;
   std::size_t mesh_version_ = 0;  ///< counts the changes of mesh_ (contacts_at's cache)
   std::vector<index_t> contact_zone(const std::vector<ContactRegion>& contacts) const;
+  /// The tets of the fixed objects (material > 0, not the moving one; with
+  /// `moving`, the moving one's too) that share a vertex with the zone and
+  /// are not in it (one ring).
+  std::vector<index_t> fixed_object_ring(const std::vector<index_t>& zone, bool moving = false) const;
   Status remesh_contact_zone(RegionMesh& rm, const std::vector<index_t>& zone,
                              const std::vector<ContactRegion>& contacts, const RigidPose& to);
   void rebuild_object_vertices(const std::vector<index_t>& placed, const RigidPose& to);

@@ -190,6 +190,23 @@ std::vector<index_t> AdaptSession::contact_zone(const std::vector<ContactRegion>
   return out;
 }
 
+std::vector<index_t> AdaptSession::fixed_object_ring(const std::vector<index_t>& zone, bool moving) const {
+  std::unordered_set<index_t> in_zone(zone.begin(), zone.end()), vertices;
+  for (const index_t t : zone)
+    for (const index_t v : mesh_.tet(t)) vertices.insert(v);
+  std::vector<index_t> ring, ball;
+  for (const index_t v : vertices) {
+    mesh_.vertex_ball(v, ball);
+    for (const index_t t : ball) {
+      const int m = material_of(mesh_, material_, t);
+      if (m > 0 && (moving || m != options_.moving_object) && !in_zone.count(t)) ring.push_back(t);
+    }
+  }
+  std::sort(ring.begin(), ring.end());
+  ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+  return ring;
+}
+
 Status AdaptSession::remesh_contact_zone(RegionMesh& rm, const std::vector<index_t>& zone,
                                          const std::vector<ContactRegion>& contacts, const RigidPose& to) {
   TetMesh& sub = rm.mesh;

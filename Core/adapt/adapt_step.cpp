@@ -79,19 +79,35 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
           }
       }
   }
-  if (!zone.empty()) {
-    std::sort(region.begin(), region.end());
+  // Beyond the thesis: with a space mesh too, one ring of the fixed
+  // objects' tets around the zone, so that 3.6 may move the zone's boundary
+  // vertices inside those objects (the refill's worst tets end there); while
+  // the objects touch (faces in contact), the moving object's ring too (its
+  // contact side took the other's points; its interior may follow).
+  std::vector<index_t> fixed_ring;
+  if (!assembly_ && !zone.empty()) {
+    const bool touching = std::any_of(contacts.begin(), contacts.end(),
+                                      [](const ContactRegion& c) { return c.moving_area > 0; });
+    fixed_ring = fixed_object_ring(zone, touching);
+  }
+  const std::vector<index_t> deformed = region;
+  const auto with_zone = [&](const std::vector<index_t>& ring) {
+    std::vector<index_t> out = deformed;
+    out.insert(out.end(), ring.begin(), ring.end());
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
     std::vector<index_t> both;
-    std::set_union(region.begin(), region.end(), zone.begin(), zone.end(), std::back_inserter(both));
-    region = std::move(both);
+    std::set_union(out.begin(), out.end(), zone.begin(), zone.end(), std::back_inserter(both));
     // The union may pinch where the zone's object tets meet the space part:
     // close it with tets of the zone's materials.
     std::set<int> zone_materials{0, options_.moving_object};
     for (const index_t t : zone) zone_materials.insert(material_[mesh_.tet_origin(t)]);
     const auto may_take = [&](index_t t) { return zone_materials.count(material_[mesh_.tet_origin(t)]) > 0; };
-    close_region(mesh_, region, may_take);
-    std::sort(region.begin(), region.end());
-  }
+    close_region(mesh_, both, may_take);
+    std::sort(both.begin(), both.end());
+    return both;
+  };
+  if (!zone.empty()) region = with_zone(fixed_ring);
   report.seconds_region += since();
   if (assembly_ && region.empty()) {
     // An assembly's part away from the others: (ii) only.
@@ -104,6 +120,11 @@ Status AdaptSession::move_to(const RigidPose& to, AdaptStepReport& report, bool*
   }
   RegionMesh rm;
   Status s = make_region_mesh(mesh_, region, rm);
+  if (!s && !fixed_ring.empty()) {
+    // The ring made no clean submesh: the region without it.
+    region = with_zone({});
+    s = make_region_mesh(mesh_, region, rm);
+  }
   report.seconds_submesh += since();
   if (!s) return s;
   const index_t built = static_cast<index_t>(rm.global_vertex.size());

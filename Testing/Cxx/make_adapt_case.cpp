@@ -11,7 +11,7 @@
 //
 //   make_adapt_case OUT.vtu [--r R] [--R R] [--Lc L] [--Lt L] [--gap G]
 //                   [--n-theta N] [--margin M] [--space-edge E] [--steps S]
-//                   [--benchmark]
+//                   [--benchmark] [--no-improve]
 //   make_adapt_case OUT.vtu --assembly [--r R] [--R R] [--Lc L] [--Lb L]
 //                   [--n-crank N] [--n-bearing N] [--benchmark]
 //
@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
   if (argc < 2 || argv[1][0] == '-') {
     std::fprintf(stderr,
                  "usage: %s OUT.vtu [--r R] [--R R] [--Lc L] [--Lt L] [--gap G] [--n-theta N] "
-                 "[--margin M] [--space-edge E] [--steps S] [--benchmark]\n"
+                 "[--margin M] [--space-edge E] [--steps S] [--benchmark] [--no-improve]\n"
                  "       %s OUT.vtu --assembly [--r R] [--R R] [--Lc L] [--Lb L] [--n-crank N] [--n-bearing N] "
                  "[--benchmark]\n",
                  argv[0], argv[0]);
@@ -164,6 +164,10 @@ int main(int argc, char** argv) {
     command += " " + a;
     if (a == "--benchmark") {
       g = testing::CylinderHalfTube::benchmark();
+      continue;
+    }
+    if (a == "--no-improve") {
+      g.improve = false;
       continue;
     }
     if (i + 1 >= argc) {
@@ -225,7 +229,10 @@ int main(int argc, char** argv) {
   std::fprintf(f, "{\n \"description\": \"thesis 3.7.3: a cylinder (MaterialId 1, moving) translated 1 per step "
                   "along its axis z into a half tube (MaterialId 2, fixed; y <= 0) of the same inner radius, in a "
                   "box of space tets (MaterialId 0); objects meshed by TetGen -pYq from exact surface "
-                  "triangulations, space by mesh_space_around\",\n");
+                  "triangulations, space by mesh_space_around%s\",\n",
+               g.improve ? "; then each material's tets improved with every boundary and interface vertex fixed "
+                           "(improve_material_mesh: Phased ODT smoothing and flips)"
+                         : "");
   std::fprintf(f, " \"r\": %.17g,\n \"R\": %.17g,\n \"Lc\": %.17g,\n \"Lt\": %.17g,\n \"gap\": %.17g,\n",
                g.r, g.R, g.Lc, g.Lt, g.gap);
   std::fprintf(f, " \"n_theta\": %d,\n \"n_outer_half\": %d,\n \"margin\": %.17g,\n \"surface_edge\": %.17g,\n",

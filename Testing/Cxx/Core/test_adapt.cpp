@@ -506,6 +506,49 @@ TEST(CylinderHalfTube, BenchmarkSizeIsTheThesis) {
               g.edge(), m.tets.size(), m.points.size(), min_stretch(m.points, m.tets));
 }
 
+// improve_material_mesh (make_cylinder_half_tube's last step): each
+// material improved with its boundary fixed keeps every boundary and
+// interface triangle where it was, and raises each material's minimum
+// stretch (TetGen's -q leaves slivers in all three).
+TEST(CylinderHalfTube, ImprovedPerMaterialKeepsEverySurface) {
+  CylinderHalfTube g;
+  g.improve = false;
+  const MaterialMesh raw = make_cylinder_half_tube(g);
+  g.improve = true;
+  const MaterialMesh m = make_cylinder_half_tube(g);
+  ASSERT_FALSE(raw.tets.empty());
+  ASSERT_FALSE(m.tets.empty());
+  const ValidityReport v = check_validity(m.points, m.tets);
+  ASSERT_TRUE(v.ok()) << v.summary();
+  using Corners = std::array<std::array<double, 3>, 3>;
+  const auto surface = [](const MaterialMesh& mesh, int material) {
+    std::vector<Corners> out;
+    for (const auto& f : material_boundary(mesh, material)) {
+      Corners c;
+      for (int k = 0; k < 3; ++k) c[k] = {{mesh.points[f[k]].x(), mesh.points[f[k]].y(), mesh.points[f[k]].z()}};
+      std::sort(c.begin(), c.end());
+      out.push_back(c);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  const auto worst = [](const MaterialMesh& mesh, int material) {
+    double lo = 1;
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+      if (mesh.material[t] == material) {
+        const Tet& T = mesh.tets[t];
+        lo = std::min(lo, tet_stretch(mesh.points[T[0]], mesh.points[T[1]], mesh.points[T[2]], mesh.points[T[3]]));
+      }
+    return lo;
+  };
+  for (int material = 0; material <= 2; ++material) {
+    EXPECT_EQ(surface(m, material), surface(raw, material)) << "material " << material << "'s boundary changed";
+    EXPECT_GE(worst(m, material), worst(raw, material)) << "material " << material;
+  }
+  EXPECT_GT(min_stretch(m.points, m.tets), min_stretch(raw.points, raw.tets));
+  EXPECT_GE(min_stretch(m.points, m.tets), 0.15);
+}
+
 TEST(CylinderHalfTube, ContactAreaOfAStep) {
   CylinderHalfTube g;
   g.Lc = 3;
