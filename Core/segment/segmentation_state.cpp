@@ -57,9 +57,19 @@ std::vector<index_t> State::exact_vertices(const SurfacePrimitive& s, const std:
                                            std::size_t min_count) const {
   std::vector<index_t> vertices = vertices_of(triangles);
   if (!(curve_tolerance > tolerance)) return vertices;
+  // Within the tight tolerance and within four times the median distance:
+  // where the tight tolerance is loose (not tightened to the mesh's
+  // precision), the median still tells the exact vertices, which are most.
+  std::vector<double> d;
+  d.reserve(vertices.size());
+  for (index_t v : vertices) d.push_back(distance(s, surface.points[v]));
+  std::vector<double> sorted = d;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  constexpr double kMedianFactor = 4.0;
+  const double bar = std::min(tolerance, kMedianFactor * sorted[sorted.size() / 2] + 1e-12 * scale);
   std::vector<index_t> kept;
-  for (index_t v : vertices)
-    if (distance(s, surface.points[v]) <= tolerance) kept.push_back(v);
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    if (d[i] <= bar) kept.push_back(vertices[i]);
   if (kept.size() < min_count || 4 * kept.size() < vertices.size()) return vertices;
   return kept;
 }
@@ -283,6 +293,16 @@ FitResult refit_region(const State& st, SurfaceType type, const SurfacePrimitive
     bool misses = false;
     for (index_t v : all) misses = misses || distance(r.surface, st.surface.points[v]) > st.near_tolerance();
     if (misses) r = fit(st.positions(all));
+  }
+  // Then over the vertices that fit exactly (within the tight tolerance):
+  // border vertices counted as inner where the region overreaches its face
+  // by a triangle, and all vertices of a narrow strip, would tilt it.
+  for (int pass = 0; pass < 3 && r.ok; ++pass) {
+    const std::vector<index_t> exact = st.exact_vertices(r.surface, triangles, 2 * min_vertices(type));
+    if (exact.size() == all.size()) break;
+    const FitResult e = fit(st.positions(exact));
+    if (!e.ok) break;
+    r = e;
   }
   if (r.ok) r.max_abs = st.scaled_max_distance(r.surface, triangles);
   return r;
