@@ -22,6 +22,26 @@ int exact_count(const State& st, const SurfacePrimitive& s, index_t f) {
   return n;
 }
 
+/// Where boundary curves are approximate: the distances of the triangle to
+/// surfaces a and b over its vertices within the tight tolerance of either
+/// (those inside a face; a vertex on an approximate curve is off both and
+/// tells nothing). Left as they are when there is no such vertex.
+void exact_distances(const State& st, const SurfacePrimitive& a, const SurfacePrimitive& b, index_t f, double& da,
+                     double& db) {
+  double ma = 0, mb = 0;
+  bool any = false;
+  for (index_t v : st.surface.triangles[f]) {
+    const double ea = distance(a, st.surface.points[v]), eb = distance(b, st.surface.points[v]);
+    if (std::min(ea, eb) > st.tolerance) continue;
+    ma = std::max(ma, ea);
+    mb = std::max(mb, eb);
+    any = true;
+  }
+  if (!any) return;
+  da = ma;
+  db = mb;
+}
+
 }  // namespace
 
 void reestimate_region_boundaries(State& st) {
@@ -65,8 +85,10 @@ void reestimate_region_boundaries(State& st) {
         if (other < 0 || other == own || other == best) continue;
         const WorkRegion& o = st.regions[other];
         if (o.type == SurfaceType::Unknown || !st.triangle_near(o.surface, f)) continue;
-        const double d = st.triangle_distance(o.surface, f);
-        const double d_own = mine.type == SurfaceType::Unknown ? 1e300 : st.triangle_distance(mine.surface, f);
+        double d = st.triangle_distance(o.surface, f);
+        double d_own = mine.type == SurfaceType::Unknown ? 1e300 : st.triangle_distance(mine.surface, f);
+        if (st.curve_tolerance > st.tolerance && mine.type != SurfaceType::Unknown)
+          exact_distances(st, o.surface, mine.surface, f, d, d_own);
         // Where boundary curves are approximate, a triangle's vertices on
         // them lie off both surfaces: the surface with more of its vertices
         // within the tight tolerance (inside the face) explains it, and the

@@ -402,8 +402,12 @@ std::size_t min_vertices(SurfaceType type) {
 }
 
 bool simpler_type_fits(const State& st, SurfaceType type, const std::vector<index_t>& triangles, double max_abs) {
-  constexpr double kNearly = 3.0;
-  const double bar = std::max(st.tolerance, kNearly * max_abs);
+  // Where boundary curves are approximate, max_abs is set by their noise
+  // (scaled_max_distance), which any smooth surface near the region shares:
+  // "nearly as well" is then closer.
+  constexpr double kNearly = 3.0, kNearlyCurves = 1.5;
+  const double bar =
+      std::max(st.tolerance, (st.curve_tolerance > st.tolerance ? kNearlyCurves : kNearly) * max_abs);
   std::vector<SurfaceType> simpler;
   switch (type) {
     case SurfaceType::Cylinder:
