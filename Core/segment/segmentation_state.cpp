@@ -444,7 +444,9 @@ bool plausible_fit(const State& st, const SurfacePrimitive& s, const std::vector
     case SurfaceType::Cylinder:
     case SurfaceType::Sphere: rho = s.radius; break;
     case SurfaceType::Torus:
-      if (!(s.minor_radius < s.radius)) return false;  // not a ring torus
+      // Ring, horn (r = R) and spindle (r > R: a rounded boss end reaching
+      // its axis) tori; R near 0 is a sphere, which simpler_type_fits prefers.
+      if (!(s.radius > 0) || !(s.minor_radius > 0)) return false;
       // A fillet torus goes around its axis: its major radius is of the order
       // of the region; a huge one imitates a cylinder.
       if (s.radius > 10.0 * extent) return false;

@@ -131,7 +131,8 @@ WorkRegion integrate_region(const State& state, SurfaceType type, const std::vec
 
 /// Whether a fit is a plausible CAD surface for these triangles rather than a
 /// fit of noise (beyond the thesis): cones between 1 deg and the maximum
-/// half angle with the apex near the part, ring tori (r < R), and curvature
+/// half angle with the apex near the part, tori with R > 0 (ring, horn and
+/// spindle: a spindle torus's outer part rounds a boss end), and curvature
 /// that shows over the region (the sagitta e^2 / (8 rho) over the region's
 /// extent e exceeds the tolerance; otherwise a plane would do).
 bool plausible_fit(const State& state, const SurfacePrimitive& surface, const std::vector<index_t>& triangles);
