@@ -118,9 +118,12 @@ public:
 
   ///@{
   /**
-   * Region growing: a vertex lies on a fitted surface when closer than this
-   * times the mean edge length of the boundary surface. Relative, in
-   * (0, 1]. Default 0.01.
+   * The distance tolerance of vertices inside a face: such a vertex lies on
+   * a fitted surface when closer than this times the mean edge length of the
+   * boundary surface. It is the largest tolerance used: Adaptive Tolerance
+   * may lower it, never raise it. Vertices on a face's boundary curves get
+   * their own tolerance, measured on the mesh (never below this one).
+   * Relative, in (0, 1]. Default 0.01.
    */
   vtkSetClampMacro(DistanceTolerance, double, 0.0, 1.0);
   vtkGetMacro(DistanceTolerance, double);
@@ -137,12 +140,15 @@ public:
 
   ///@{
   /**
-   * Tighten the Distance Tolerance to the mesh's own precision, measured on
-   * its planar faces (at most 1e4 times the median node distance to them,
-   * at least 1e-6 of the part size). Keeps region boundaries where faces meet
-   * at a fraction of a degree on meshes whose nodes lie on the CAD surfaces.
-   * Turn off for meshes whose planes are exact but curved faces faceted.
-   * Default on.
+   * Lower the Distance Tolerance to the mesh's own precision: 1e4 times the
+   * median distance of the nodes of its planar faces to their planes (at
+   * least 1e-6 of the part size), when that is smaller. Keeps region
+   * boundaries where faces meet at a fraction of a degree on meshes whose
+   * nodes lie on the CAD surfaces. Off: the Distance Tolerance as given.
+   * Either way, nodes on boundary curves (which CAD files store as
+   * approximations) are tested with the curve tolerance, 6 times the
+   * 0.9-quantile of the planar faces' border node distances, at most 1e-3
+   * of the part. Default on.
    */
   vtkSetMacro(AdaptiveTolerance, vtkTypeBool);
   vtkGetMacro(AdaptiveTolerance, vtkTypeBool);

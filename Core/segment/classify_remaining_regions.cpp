@@ -24,7 +24,7 @@ bool fit_patch(State& st, const std::vector<index_t>& triangles) {
     const FitResult fit = fit_region(st, type, triangles);
     if (!fit.ok || fit.max_abs > st.tolerance || !plausible_fit(st, fit.surface, triangles)) continue;
     bool all_on = true;
-    for (index_t f : triangles) all_on = all_on && st.triangle_on(fit.surface, f);
+    for (index_t f : triangles) all_on = all_on && st.triangle_near(fit.surface, f);
     if (!all_on) continue;
     WorkRegion region = integrate_region(st, type, triangles, fit);
     if (!region.alive) continue;

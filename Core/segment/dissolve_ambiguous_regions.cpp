@@ -34,7 +34,7 @@ void absorb_unknown_triangles(State& st) {
         const index_t g = s.neighbors[f][k];
         if (g < 0) continue;
         const index_t o = st.triangle_region[g];
-        if (o < 0 || st.regions[o].type != SurfaceType::Unknown || !st.triangle_on(region.surface, g)) continue;
+        if (o < 0 || st.regions[o].type != SurfaceType::Unknown || !st.triangle_near(region.surface, g)) continue;
         st.triangle_region[g] = static_cast<index_t>(r);
         region.triangles.push_back(g);
         frontier.push_back(g);
@@ -60,7 +60,9 @@ bool dissolve_ambiguous_regions(State& st) {
       seen = b;
       auto& c = along[{a, b}];
       ++c.first;
-      c.second += st.triangle_distance(st.regions[b].surface, f) <= kNear * st.tolerance;
+      // Judged on f's vertices away from b (its border vertices lie on a
+      // boundary curve, exact or not).
+      c.second += st.triangle_distance_off(st.regions[b].surface, f, b) <= kNear * st.tolerance;
     }
   }
   constexpr double kBlurred = 0.75;
@@ -89,7 +91,7 @@ bool dissolve_ambiguous_regions(State& st) {
   auto stretched = [&](const WorkRegion& r) {
     const std::size_t i = static_cast<std::size_t>(&r - st.regions.data());
     if (median[i] < 0) {
-      const std::vector<Vec3> points = st.positions(st.vertices_of(r.triangles));
+      const std::vector<Vec3> points = st.positions(st.fit_vertices(r.triangles, 2 * min_vertices(r.type)));
       const double m = median_distance(r.surface, points);
       std::vector<Vec3> better;
       for (const Vec3& p : points)

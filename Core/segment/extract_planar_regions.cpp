@@ -13,20 +13,38 @@ namespace {
 
 /// The mesh's precision, measured on its planar seeds (the median vertex
 /// distance to their fitted planes, median over seeds weighted by size),
-/// and the tolerance tightened to it when adaptive_tolerance is on.
+/// and the tolerance tightened to it when adaptive_tolerance is on. Also the
+/// precision of the boundary curves (issue 28): a CAD mesh's nodes inside a
+/// face lie on it exactly, those on its edge curves only as well as the
+/// file's curves approximate the face intersections. The curve tolerance is
+/// six times the 0.9-quantile of the seeds' border vertex distances to their
+/// planes (border vertices lie on the curves or next to them), capped at
+/// 1e-3 of the part: beyond that a node is off the face, not on its curve.
 void measure_precision(State& st, const std::vector<std::vector<index_t>>& seeds,
                        const std::vector<FitResult>& fits) {
   std::vector<std::pair<double, double>> medians;  // (median distance, triangles)
+  std::vector<double> border;                      // border vertex distances
   double total = 0;
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     if (!fits[i].ok || fits[i].max_abs > st.tolerance || seeds[i].size() < 4) continue;
     std::vector<double> d;
-    for (index_t v : st.vertices_of(seeds[i])) d.push_back(distance(fits[i].surface, st.surface.points[v]));
+    const std::vector<index_t> vertices = st.vertices_of(seeds[i]);
+    const std::vector<char> inner = st.inner_mask(seeds[i], vertices);
+    for (std::size_t k = 0; k < vertices.size(); ++k) {
+      d.push_back(distance(fits[i].surface, st.surface.points[vertices[k]]));
+      if (!inner[k]) border.push_back(d.back());
+    }
     std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
     medians.emplace_back(d[d.size() / 2], static_cast<double>(seeds[i].size()));
     total += static_cast<double>(seeds[i].size());
   }
   if (medians.empty()) return;
+  if (!border.empty()) {
+    constexpr double kQuantile = 0.9, kCurveFactor = 6.0, kMaxCurveRelative = 1e-3;
+    auto q = border.begin() + static_cast<std::ptrdiff_t>(kQuantile * static_cast<double>(border.size() - 1));
+    std::nth_element(border.begin(), q, border.end());
+    st.curve_tolerance = std::min(kCurveFactor * *q, kMaxCurveRelative * st.scale);
+  }
   std::sort(medians.begin(), medians.end());
   double seen = 0;
   for (const auto& [m, w] : medians) {
@@ -83,7 +101,9 @@ void extract_planar_regions(State& st) {
     for (int trim = 0; trim < 4 && fit.ok && fit.max_abs > st.tolerance; ++trim) {
       std::vector<index_t> kept;
       for (index_t f : seed)
-        if (st.triangle_distance(fit.surface, f) <= st.tolerance) kept.push_back(f);
+        if (st.curve_tolerance > st.tolerance ? st.triangle_near(fit.surface, f)
+                                              : st.triangle_distance(fit.surface, f) <= st.tolerance)
+          kept.push_back(f);
       if (kept.empty() || kept.size() == seed.size()) break;
       seed.swap(kept);
       fit = fit_region(st, SurfaceType::Plane, seed);
@@ -94,8 +114,13 @@ void extract_planar_regions(State& st) {
   // The tolerance tightened to the mesh's precision trims the seeds again.
   const double before = st.tolerance;
   measure_precision(st, seeds, fits);
-  if (st.tolerance < before)
-    for (std::size_t i = 0; i < seeds.size(); ++i) trim_and_fit(i);
+  // Refit first where the boundary curves are looser than the rest: the fits
+  // so far took every vertex.
+  if (st.tolerance < before || st.curve_tolerance > st.tolerance)
+    for (std::size_t i = 0; i < seeds.size(); ++i) {
+      if (st.curve_tolerance > st.tolerance) fits[i].ok = false;
+      trim_and_fit(i);
+    }
   // Region integration, largest seed first: fit, grow by distance, refit.
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     std::vector<index_t>& seed = seeds[i];

@@ -45,7 +45,7 @@ void merge_false_regions(State& st) {
     for (const auto& [count, o] : shared) {
       WorkRegion& torus = st.regions[o];
       bool all_on = true;
-      for (index_t f : small.triangles) all_on = all_on && st.triangle_on(torus.surface, f);
+      for (index_t f : small.triangles) all_on = all_on && st.triangle_near(torus.surface, f);
       if (!all_on) continue;
       for (index_t f : small.triangles) {
         st.triangle_region[f] = o;
@@ -99,7 +99,7 @@ void extract_torus_regions(State& st) {
         simpler_type_fits(st, SurfaceType::Sphere, region.triangles, sphere.max_abs))
       continue;
     bool all_on = true;
-    for (index_t f : region.triangles) all_on = all_on && st.triangle_on(sphere.surface, f);
+    for (index_t f : region.triangles) all_on = all_on && st.triangle_near(sphere.surface, f);
     if (!all_on) continue;
     region.type = SurfaceType::Sphere;
     region.surface = sphere.surface;

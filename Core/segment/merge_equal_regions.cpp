@@ -36,7 +36,7 @@ void merge_equal_regions(State& st) {
       WorkRegion& small = st.regions[b];
       if (big.type == SurfaceType::Unknown) continue;
       bool all_on = true;
-      for (index_t h : small.triangles) all_on = all_on && st.triangle_on(big.surface, h);
+      for (index_t h : small.triangles) all_on = all_on && st.triangle_near(big.surface, h);
       if (!all_on) continue;
       for (index_t h : small.triangles) st.triangle_region[h] = a;
       big.triangles.insert(big.triangles.end(), small.triangles.begin(), small.triangles.end());
@@ -50,16 +50,8 @@ void merge_equal_regions(State& st) {
     for (std::size_t i = 0; i < st.regions.size(); ++i) {
       WorkRegion& r = st.regions[i];
       if (!grown[i] || !r.alive || r.type == SurfaceType::Unknown) continue;
-      const std::vector<Vec3> points = st.positions(st.vertices_of(r.triangles));
-      const FitResult fit = r.type == SurfaceType::Plane ? fit_plane(points, nullptr) : refine_fit_lm(r.surface, points);
-      if (fit.ok) {
-        if (r.type == SurfaceType::Plane && fit.surface.axis.dot(r.surface.axis) < 0) {
-          r.surface.point = fit.surface.point;
-          r.surface.axis = -fit.surface.axis;
-        } else {
-          r.surface = fit.surface;
-        }
-      }
+      const FitResult fit = refit_region(st, r.type, r.surface, r.triangles);
+      if (fit.ok) r.surface = fit.surface;
     }
   }
 }

@@ -53,7 +53,7 @@ void recognize_boundary_curves(const State& st, Segmentation& out) {
     curve.region_b = edges[first_edge].region_b;
     std::vector<Vec3> points;
     for (index_t v : chain) points.push_back(s.points[v]);
-    const CurveFit fit = classify_boundary_curve(points, closed, st.tolerance, out.regions[curve.region_a].surface,
+    const CurveFit fit = classify_boundary_curve(points, closed, st.near_tolerance(), out.regions[curve.region_a].surface,
                                                  out.regions[curve.region_b].surface);
     curve.curve = fit.curve;
     curve.type = fit.ok ? fit.curve.type : CurveType::Unclassified;

@@ -10,6 +10,40 @@
 namespace femorph {
 namespace segment {
 
+namespace {
+
+/// How many of the triangle's vertices lie within the tight tolerance of s;
+/// 0 for all while boundary curves are as exact as the rest (the distances
+/// alone decide).
+int exact_count(const State& st, const SurfacePrimitive& s, index_t f) {
+  if (!(st.curve_tolerance > st.tolerance)) return 0;
+  int n = 0;
+  for (index_t v : st.surface.triangles[f]) n += distance(s, st.surface.points[v]) <= st.tolerance;
+  return n;
+}
+
+/// Where boundary curves are approximate: the distances of the triangle to
+/// surfaces a and b over its vertices within the tight tolerance of either
+/// (those inside a face; a vertex on an approximate curve is off both and
+/// tells nothing). Left as they are when there is no such vertex.
+void exact_distances(const State& st, const SurfacePrimitive& a, const SurfacePrimitive& b, index_t f, double& da,
+                     double& db) {
+  double ma = 0, mb = 0;
+  bool any = false;
+  for (index_t v : st.surface.triangles[f]) {
+    const double ea = distance(a, st.surface.points[v]), eb = distance(b, st.surface.points[v]);
+    if (std::min(ea, eb) > st.tolerance) continue;
+    ma = std::max(ma, ea);
+    mb = std::max(mb, eb);
+    any = true;
+  }
+  if (!any) return;
+  da = ma;
+  db = mb;
+}
+
+}  // namespace
+
 void reestimate_region_boundaries(State& st) {
   const SurfaceMesh& s = st.surface;
   const index_t nf = s.num_triangles();
@@ -41,21 +75,32 @@ void reestimate_region_boundaries(State& st) {
       const index_t own = st.triangle_region[f];
       if (own < 0) continue;
       const WorkRegion& mine = st.regions[own];
-      const double d_own = mine.type == SurfaceType::Unknown ? 1e300 : st.triangle_distance(mine.surface, f);
       index_t best = own;
-      double d_best = d_own;
+      double d_best = 1e300;
+      int exact_best = -1;
       for (int k = 0; k < 3; ++k) {
         const index_t g = s.neighbors[f][k];
         if (g < 0) continue;
         const index_t other = st.triangle_region[g];
         if (other < 0 || other == own || other == best) continue;
         const WorkRegion& o = st.regions[other];
-        if (o.type == SurfaceType::Unknown || !st.triangle_on(o.surface, f)) continue;
-        const double d = st.triangle_distance(o.surface, f);
+        if (o.type == SurfaceType::Unknown || !st.triangle_near(o.surface, f)) continue;
+        double d = st.triangle_distance(o.surface, f);
+        double d_own = mine.type == SurfaceType::Unknown ? 1e300 : st.triangle_distance(mine.surface, f);
+        if (st.curve_tolerance > st.tolerance && mine.type != SurfaceType::Unknown)
+          exact_distances(st, o.surface, mine.surface, f, d, d_own);
+        // Where boundary curves are approximate, a triangle's vertices on
+        // them lie off both surfaces: the surface with more of its vertices
+        // within the tight tolerance (inside the face) explains it, and the
+        // distances decide between equal counts.
+        const int exact = exact_count(st, o.surface, f);
+        const int exact_own = mine.type == SurfaceType::Unknown ? 0 : exact_count(st, mine.surface, f);
+        if (exact < exact_own || exact < exact_best) continue;
         // Clearly closer: the margin keeps exact ties (both 0) where they are.
-        if (d < 0.5 * d_best) {
+        if (exact > exact_own || (d < 0.5 * d_own && (exact > exact_best || d < d_best))) {
           best = other;
           d_best = d;
+          exact_best = exact;
         }
       }
       if (best == own) continue;

@@ -28,11 +28,15 @@ struct SegmentationParams {
   /// A13 seeds: a triangle whose vertices' principal directions differ by
   /// more than this is a sphere seed (thesis: 60 deg).
   double sphere_direction_angle_deg = 60.0;
-  /// Region growing: a vertex lies on a fitted surface when closer than this
-  /// times the mean edge length. Meshes whose nodes are not exactly on the
-  /// CAD surfaces (remeshed, exported with few digits) need more, e.g. 0.05.
+  /// The tolerance of vertices inside a face: such a vertex lies on a fitted
+  /// surface when closer than this times the mean edge length; the largest
+  /// tolerance used (adaptive_tolerance may lower it). Meshes whose nodes are
+  /// not exactly on the CAD surfaces (remeshed, exported with few digits)
+  /// need more, e.g. 0.05. Vertices on boundary curves have their own
+  /// tolerance, measured (6 x the 0.9-quantile of the planar seeds' border
+  /// vertex distances, at most 1e-3 of the part; never below this one).
   double distance_tolerance = 1e-2;
-  /// Tighten the distance tolerance to the mesh's own precision, measured on
+  /// Lower the distance tolerance to the mesh's own precision, measured on
   /// its planar faces: on a mesh whose nodes lie on the CAD surfaces to 1e-14,
   /// the tolerance becomes max(1e4 x that, 1e-6 of the part) if smaller.
   /// Region boundaries then hold even where faces meet at a fraction of a

@@ -26,6 +26,68 @@ std::vector<index_t> State::vertices_of(const std::vector<index_t>& triangles) c
   return v;
 }
 
+std::vector<char> State::inner_mask(const std::vector<index_t>& triangles,
+                                    const std::vector<index_t>& vertices) const {
+  const std::uint32_t mark = triangle_marks_.next(static_cast<std::size_t>(surface.num_triangles()));
+  for (index_t f : triangles) triangle_marks_.stamp[f] = mark;
+  std::vector<char> inner(vertices.size(), 1);
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const index_t v = vertices[i];
+    for (index_t k = surface.vertex_offsets[v]; k < surface.vertex_offsets[v + 1]; ++k)
+      if (triangle_marks_.stamp[surface.vertex_triangles[k]] != mark) {
+        inner[i] = 0;
+        break;
+      }
+  }
+  return inner;
+}
+
+std::vector<index_t> State::fit_vertices(const std::vector<index_t>& triangles, std::size_t min_count) const {
+  std::vector<index_t> vertices = vertices_of(triangles);
+  if (!(curve_tolerance > tolerance)) return vertices;  // every vertex as exact as the others
+  const std::vector<char> inner = inner_mask(triangles, vertices);
+  std::vector<index_t> kept;
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    if (inner[i]) kept.push_back(vertices[i]);
+  if (kept.size() < min_count || 4 * kept.size() < vertices.size()) return vertices;
+  return kept;
+}
+
+std::vector<index_t> State::exact_vertices(const SurfacePrimitive& s, const std::vector<index_t>& triangles,
+                                           std::size_t min_count) const {
+  std::vector<index_t> vertices = vertices_of(triangles);
+  if (!(curve_tolerance > tolerance)) return vertices;
+  // Within the tight tolerance and within four times the median distance:
+  // where the tight tolerance is loose (not tightened to the mesh's
+  // precision), the median still tells the exact vertices, which are most.
+  std::vector<double> d;
+  d.reserve(vertices.size());
+  for (index_t v : vertices) d.push_back(distance(s, surface.points[v]));
+  std::vector<double> sorted = d;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  constexpr double kMedianFactor = 4.0;
+  const double bar = std::min(tolerance, kMedianFactor * sorted[sorted.size() / 2] + 1e-12 * scale);
+  std::vector<index_t> kept;
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    if (d[i] <= bar) kept.push_back(vertices[i]);
+  if (kept.size() < min_count || 4 * kept.size() < vertices.size()) return vertices;
+  return kept;
+}
+
+double State::scaled_max_distance(const SurfacePrimitive& s, const std::vector<index_t>& triangles) const {
+  const std::vector<index_t> vertices = vertices_of(triangles);
+  double d = 0;
+  if (!(curve_tolerance > tolerance)) {
+    for (index_t v : vertices) d = std::max(d, distance(s, surface.points[v]));
+    return d;
+  }
+  const std::vector<char> inner = inner_mask(triangles, vertices);
+  const double border_scale = tolerance / near_tolerance();
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    d = std::max(d, distance(s, surface.points[vertices[i]]) * (inner[i] ? 1.0 : border_scale));
+  return d;
+}
+
 std::vector<Vec3> State::positions(const std::vector<index_t>& vertices) const {
   std::vector<Vec3> p;
   p.reserve(vertices.size());
@@ -58,16 +120,54 @@ double State::triangle_distance(const SurfacePrimitive& s, index_t f) const {
   return d;
 }
 
-bool State::triangle_on(const SurfacePrimitive& s, index_t f) const {
-  if (triangle_distance(s, f) > tolerance) return false;
-  // A triangle lying on the surface also faces along it (a flat triangle
-  // inscribed in a curved surface deviates by about half its angular span).
+double State::triangle_distance_off(const SurfacePrimitive& s, index_t f, index_t other) const {
+  if (!(curve_tolerance > tolerance)) return triangle_distance(s, f);  // border vertices as exact as the others
+  double d = 0;
+  bool any = false;
+  for (index_t v : surface.triangles[f]) {
+    bool touched = false;
+    for (index_t k = surface.vertex_offsets[v]; k < surface.vertex_offsets[v + 1] && !touched; ++k)
+      touched = triangle_region[surface.vertex_triangles[k]] == other;
+    if (touched) continue;
+    d = std::max(d, distance(s, surface.points[v]));
+    any = true;
+  }
+  return any ? d : triangle_distance(s, f);
+}
+
+namespace {
+
+/// A triangle lying on the surface also faces along it (a flat triangle
+/// inscribed in a curved surface deviates by about half its angular span).
+bool faces_along(const SurfaceMesh& surface, const SurfacePrimitive& s, index_t f) {
   const Vec3& n = surface.normals[f];
   if (n.squaredNorm() == 0) return true;  // degenerate: distances decide
   const Tri& t = surface.triangles[f];
   const Vec3 c = (surface.points[t[0]] + surface.points[t[1]] + surface.points[t[2]]) / 3.0;
   constexpr double kCos30 = 0.8660254037844387;
   return std::abs(n.dot(surface_normal(s, c))) >= kCos30;
+}
+
+}  // namespace
+
+bool State::triangle_near(const SurfacePrimitive& s, index_t f) const {
+  const double near = near_tolerance();
+  if (!(near > tolerance)) return triangle_on(s, f);
+  bool inside = false;
+  for (index_t v : surface.triangles[f]) {
+    const double d = distance(s, surface.points[v]);
+    if (d > near) return false;
+    inside = inside || d <= tolerance;
+  }
+  if (!inside)
+    for (index_t v : surface.triangles[f])
+      if (sharp.vertex_degree[v] == 0) return false;
+  return faces_along(surface, s, f);
+}
+
+bool State::triangle_on(const SurfacePrimitive& s, index_t f) const {
+  if (triangle_distance(s, f) > tolerance) return false;
+  return faces_along(surface, s, f);
 }
 
 namespace {
@@ -92,8 +192,39 @@ std::vector<Vec3> region_normals(const State& st, const std::vector<index_t>& tr
 FitResult fit_region(const State& st, SurfaceType type, const std::vector<index_t>& triangles,
                      const std::vector<Vec3>* max_dirs, bool refine) {
   const std::vector<index_t> vertices = st.vertices_of(triangles);
-  const std::vector<Vec3> points = st.positions(vertices);
-  const std::vector<Vec3> normals = region_normals(st, triangles, vertices);
+  std::vector<Vec3> points = st.positions(vertices);
+  std::vector<Vec3> normals = region_normals(st, triangles, vertices);
+  std::vector<Vec3> dirs;
+  if (max_dirs) dirs = *max_dirs;
+  // Where boundary-curve vertices are less exact than the others, fit the
+  // inner vertices when there are enough of them (fit_vertices' rule), and
+  // fall back to all if that fit misses the border vertices by more than
+  // their tolerance (inner vertices along one line of a narrow strip).
+  std::vector<Vec3> all_points, all_normals, all_dirs;
+  std::vector<char> inner;
+  if (st.curve_tolerance > st.tolerance) {
+    inner = st.inner_mask(triangles, vertices);
+    std::size_t count = 0;
+    for (char c : inner) count += c;
+    if (count >= 2 * min_vertices(type) && 4 * count >= vertices.size()) {
+      all_points.swap(points);
+      all_normals.swap(normals);
+      all_dirs = dirs;
+      dirs.clear();
+      for (std::size_t i = 0; i < vertices.size(); ++i)
+        if (inner[i]) {
+          points.push_back(all_points[i]);
+          normals.push_back(all_normals[i]);
+          if (max_dirs) dirs.push_back(all_dirs[i]);
+        }
+    }
+  }
+  auto misses_border = [&](const FitResult& f) {
+    if (all_points.empty() || !f.ok) return false;
+    for (const Vec3& p : all_points)
+      if (distance(f.surface, p) > st.near_tolerance()) return true;
+    return false;
+  };
   RansacParams rp;
   rp.iterations = st.params.ransac_iterations;
   // RANSAC models come from three points and their normals, whose errors
@@ -102,6 +233,7 @@ FitResult fit_region(const State& st, SurfaceType type, const std::vector<index_
   rp.inlier_tolerance = std::max(st.tolerance, 0.2 * st.surface.mean_edge_length);
   rp.max_cone_half_angle = degrees_to_radians(st.params.max_cone_half_angle_deg);
   rp.seed = st.params.random_seed;
+  auto fit_points = [&]() {
   FitResult fit;
   switch (type) {
     case SurfaceType::Plane: return fit_plane(points, &normals);
@@ -115,19 +247,65 @@ FitResult fit_region(const State& st, SurfaceType type, const std::vector<index_
       }
       break;
     }
-    case SurfaceType::Torus: {
+    case SurfaceType::Torus:
       // max_dirs are per vertex of the region when given.
-      std::vector<Vec3> dirs;
-      if (max_dirs) dirs = *max_dirs;
       fit = ransac_torus(points, normals, max_dirs ? &dirs : nullptr, rp);
       break;
-    }
     default: return fit;
   }
   if (!fit.ok || !refine) return fit;
   const FitResult refined = refine_fit_lm(fit.surface, points);
   if (refined.ok && refined.rms <= fit.rms) return refined;
   return fit;
+  };
+  // The largest distance over all vertices, the border ones in units of the
+  // curve tolerance (as scaled_max_distance), so that callers compare it
+  // with the tight tolerance.
+  auto scaled = [&](FitResult f) {
+    if (inner.empty() || !f.ok) return f;
+    const double border_scale = st.tolerance / st.near_tolerance();
+    f.max_abs = 0;
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      f.max_abs = std::max(f.max_abs, distance(f.surface, st.surface.points[vertices[i]]) *
+                                          (inner[i] ? 1.0 : border_scale));
+    return f;
+  };
+  const FitResult fit = fit_points();
+  if (!misses_border(fit)) return scaled(fit);
+  points.swap(all_points);
+  normals.swap(all_normals);
+  dirs.swap(all_dirs);
+  return scaled(fit_points());
+}
+
+FitResult refit_region(const State& st, SurfaceType type, const SurfacePrimitive& start,
+                       const std::vector<index_t>& triangles) {
+  auto fit = [&](const std::vector<Vec3>& points) {
+    FitResult r = type == SurfaceType::Plane ? fit_plane(points, nullptr) : refine_fit_lm(start, points);
+    if (type == SurfaceType::Plane && r.ok && r.surface.axis.dot(start.axis) < 0) r.surface.axis = -r.surface.axis;
+    return r;
+  };
+  const std::vector<index_t> chosen = st.fit_vertices(triangles, 2 * min_vertices(type));
+  FitResult r = fit(st.positions(chosen));
+  if (!(st.curve_tolerance > st.tolerance)) return r;
+  const std::vector<index_t> all = st.vertices_of(triangles);
+  if (r.ok && chosen.size() < all.size()) {
+    bool misses = false;
+    for (index_t v : all) misses = misses || distance(r.surface, st.surface.points[v]) > st.near_tolerance();
+    if (misses) r = fit(st.positions(all));
+  }
+  // Then over the vertices that fit exactly (within the tight tolerance):
+  // border vertices counted as inner where the region overreaches its face
+  // by a triangle, and all vertices of a narrow strip, would tilt it.
+  for (int pass = 0; pass < 3 && r.ok; ++pass) {
+    const std::vector<index_t> exact = st.exact_vertices(r.surface, triangles, 2 * min_vertices(type));
+    if (exact.size() == all.size()) break;
+    const FitResult e = fit(st.positions(exact));
+    if (!e.ok) break;
+    r = e;
+  }
+  if (r.ok) r.max_abs = st.scaled_max_distance(r.surface, triangles);
+  return r;
 }
 
 WorkRegion integrate_region(const State& st, SurfaceType type, const std::vector<index_t>& seed,
@@ -143,7 +321,7 @@ WorkRegion integrate_region(const State& st, SurfaceType type, const std::vector
   std::vector<char> in_region(static_cast<std::size_t>(s.num_triangles()), 0);
   // Keep only the seed triangles that lie on the initial fit.
   for (index_t f : seed)
-    if (st.triangle_region[f] < 0 && st.triangle_on(region.surface, f)) {
+    if (st.triangle_region[f] < 0 && st.triangle_near(region.surface, f)) {
       region.triangles.push_back(f);
       in_region[f] = 1;
     }
@@ -164,7 +342,7 @@ WorkRegion integrate_region(const State& st, SurfaceType type, const std::vector
       for (int k = 0; k < 3; ++k) {
         const index_t g = s.neighbors[f][k];
         if (g < 0 || in_region[g] || st.triangle_region[g] >= 0) continue;
-        if (!st.triangle_on(region.surface, g)) continue;
+        if (!st.triangle_near(region.surface, g)) continue;
         in_region[g] = 1;
         region.triangles.push_back(g);
         frontier.push_back(g);
@@ -178,28 +356,34 @@ WorkRegion integrate_region(const State& st, SurfaceType type, const std::vector
       if (added == 0) break;
       continue;
     }
-    const std::vector<index_t> vertices = st.vertices_of(region.triangles);
-    const std::vector<Vec3> points = st.positions(vertices);
-    FitResult refit = type == SurfaceType::Plane ? fit_plane(points, nullptr) : refine_fit_lm(region.surface, points);
-    if (type == SurfaceType::Plane && refit.ok && refit.surface.axis.dot(region.surface.axis) < 0) {
-      refit.surface.axis = -refit.surface.axis;
-    }
+    const FitResult refit = refit_region(st, type, region.surface, region.triangles);
     if (refit.ok) {
       region.surface = refit.surface;
       region.fit_rms = refit.rms;
       region.fit_max = refit.max_abs;
     } else {
-      const FitResult e = evaluate_fit(region.surface, points);
+      const FitResult e = evaluate_fit(region.surface, st.positions(st.vertices_of(region.triangles)));
       region.fit_rms = e.rms;
       region.fit_max = e.max_abs;
     }
     if (region.triangles.size() == before && round > 0) break;
   }
+  // Where boundary curves are approximate, the fits during growth took the
+  // inner vertices of a partial region (or all vertices when too few were
+  // inner): a last fit over the whole region's inner vertices makes it exact.
+  if (st.curve_tolerance > st.tolerance) {
+    const FitResult refit = refit_region(st, type, region.surface, region.triangles);
+    if (refit.ok) {
+      region.surface = refit.surface;
+      region.fit_rms = refit.rms;
+      region.fit_max = refit.max_abs;
+    }
+  }
   // Drop triangles the final fit no longer accepts (rare: the seed was wider
   // than the surface).
   std::vector<index_t> kept;
   for (index_t f : region.triangles)
-    if (st.triangle_on(region.surface, f)) kept.push_back(f);
+    if (st.triangle_near(region.surface, f)) kept.push_back(f);
   region.triangles.swap(kept);
   region.alive = st.vertices_of(region.triangles).size() >= min_vertices(type) &&
                  plausible_fit(st, region.surface, region.triangles) &&
@@ -218,8 +402,12 @@ std::size_t min_vertices(SurfaceType type) {
 }
 
 bool simpler_type_fits(const State& st, SurfaceType type, const std::vector<index_t>& triangles, double max_abs) {
-  constexpr double kNearly = 3.0;
-  const double bar = std::max(st.tolerance, kNearly * max_abs);
+  // Where boundary curves are approximate, max_abs is set by their noise
+  // (scaled_max_distance), which any smooth surface near the region shares:
+  // "nearly as well" is then closer.
+  constexpr double kNearly = 3.0, kNearlyCurves = 1.5;
+  const double bar =
+      std::max(st.tolerance, (st.curve_tolerance > st.tolerance ? kNearlyCurves : kNearly) * max_abs);
   std::vector<SurfaceType> simpler;
   switch (type) {
     case SurfaceType::Cylinder:
@@ -256,7 +444,9 @@ bool plausible_fit(const State& st, const SurfacePrimitive& s, const std::vector
     case SurfaceType::Cylinder:
     case SurfaceType::Sphere: rho = s.radius; break;
     case SurfaceType::Torus:
-      if (!(s.minor_radius < s.radius)) return false;  // not a ring torus
+      // Ring, horn (r = R) and spindle (r > R: a rounded boss end reaching
+      // its axis) tori; R near 0 is a sphere, which simpler_type_fits prefers.
+      if (!(s.radius > 0) || !(s.minor_radius > 0)) return false;
       // A fillet torus goes around its axis: its major radius is of the order
       // of the region; a huge one imitates a cylinder.
       if (s.radius > 10.0 * extent) return false;

@@ -30,8 +30,15 @@ struct State {
   /// Per triangle: index into regions, or -1 while unassigned.
   std::vector<index_t> triangle_region;
   std::vector<WorkRegion> regions;
-  /// Absolute distance under which a vertex lies on a fitted surface.
+  /// Absolute distance under which a vertex inside a face lies on its
+  /// fitted surface (the tight tolerance).
   double tolerance = 0;
+  /// Absolute distance under which a vertex on a face's boundary curves lies
+  /// on it: CAD systems store edge curves as approximations of the face
+  /// intersections, so mesh nodes on them lie off the faces by far more
+  /// than the nodes inside (0 until measured by extract_planar_regions;
+  /// near_tolerance() is never below the tight one).
+  double curve_tolerance = 0;
   /// A length of the part (bounding box diagonal), for relative comparisons.
   double scale = 1;
   /// The mesh's precision: median distance of planar seed vertices to their
@@ -45,6 +52,7 @@ struct State {
   // Marks for vertices_of: linear time, no sort (it runs on every fit).
   mutable Stamps<std::uint32_t> vertex_marks_;
   mutable std::vector<index_t> vertex_slot_;
+  mutable Stamps<std::uint32_t> triangle_marks_;
 
  public:
 
@@ -52,14 +60,48 @@ struct State {
   /// After the call, slot(v) is v's position in the result (until the next).
   std::vector<index_t> vertices_of(const std::vector<index_t>& triangles) const;
   index_t slot(index_t v) const { return vertex_slot_[v]; }
+  /// The tolerance of boundary-curve vertices.
+  double near_tolerance() const { return std::max(tolerance, curve_tolerance); }
+  /// Per vertex of `vertices` (= vertices_of(triangles)): 1 when every mesh
+  /// triangle around it is in `triangles`, i.e. it is inside the set, not on
+  /// its border (where a face's boundary curves run).
+  std::vector<char> inner_mask(const std::vector<index_t>& triangles, const std::vector<index_t>& vertices) const;
+  /// The vertices a fit of `triangles` uses: the inner ones when there are
+  /// enough of them (at least `min_count` and a quarter of all), else all.
+  /// Inner vertices of a CAD mesh lie on their face exactly; its border
+  /// vertices only to the accuracy of the file's edge curves.
+  std::vector<index_t> fit_vertices(const std::vector<index_t>& triangles, std::size_t min_count) const;
+  /// The vertices of `triangles` within the tight tolerance of s (the exact
+  /// ones), or all of them when fewer than `min_count` are.
+  std::vector<index_t> exact_vertices(const SurfacePrimitive& s, const std::vector<index_t>& triangles,
+                                      std::size_t min_count) const;
+  /// Largest distance to s of the vertices of `triangles`, the border ones
+  /// (see inner_mask) counted in units of the curve tolerance: comparable with
+  /// the tight tolerance for both kinds. The plain largest distance while the
+  /// curve tolerance is not above the tight one.
+  double scaled_max_distance(const SurfacePrimitive& s, const std::vector<index_t>& triangles) const;
   /// Positions (and vertex normals) of vertices.
   std::vector<Vec3> positions(const std::vector<index_t>& vertices) const;
   std::vector<Vec3> normals(const std::vector<index_t>& vertices) const;
   /// Largest distance of a triangle's vertices to a surface.
   double triangle_distance(const SurfacePrimitive& s, index_t triangle) const;
-  /// Whether the triangle lies on s: its vertices within tolerance and its
-  /// normal agreeing with the surface normal (same side, within 30 degrees).
+  /// Largest distance to s of the triangle's vertices that no triangle of
+  /// region `other` touches (all of them if every one is touched): how well s
+  /// explains the triangle away from its border with `other`. The plain
+  /// triangle_distance while the curve tolerance is not above the tight one.
+  double triangle_distance_off(const SurfacePrimitive& s, index_t triangle, index_t other) const;
+  /// Whether the triangle lies on s with the tight tolerance: its vertices
+  /// within it and its normal agreeing with the surface normal (same side,
+  /// within 30 degrees).
   bool triangle_on(const SurfacePrimitive& s, index_t triangle) const;
+  /// Whether the triangle lies on s allowing for approximate boundary
+  /// curves: its vertices within near_tolerance(), at least one of them
+  /// within the tight tolerance (a vertex inside the face: a neighbouring
+  /// face meeting at a small angle is not taken beyond one triangle) unless
+  /// all three lie on sharp edges (a face one triangle wide), and
+  /// its normal agreeing as for triangle_on. The same as triangle_on while
+  /// the curve tolerance is not above the tight one.
+  bool triangle_near(const SurfacePrimitive& s, index_t triangle) const;
   /// Unit normal at a vertex: the curvature's when valid, else the
   /// area-weighted mean of its triangles' normals.
   Vec3 vertex_normal(index_t v) const;
@@ -71,6 +113,14 @@ struct State {
 FitResult fit_region(const State& state, SurfaceType type, const std::vector<index_t>& triangles,
                      const std::vector<Vec3>* max_dirs = nullptr, bool refine = true);
 
+/// Refits a region's surface of `type` from `start` (least squares for a
+/// plane, LM for the others) over fit_vertices, or over all its vertices when
+/// that fit misses a border vertex by more than the curve tolerance (the
+/// inner vertices of a narrow strip, along one line, leave the fit free
+/// across it). max_abs as scaled_max_distance.
+FitResult refit_region(const State& state, SurfaceType type, const SurfacePrimitive& start,
+                       const std::vector<index_t>& triangles);
+
 /// Region integration, thesis 2.4.3.3: starting from `seed` triangles and a
 /// fit of `type`, alternately grows the region over unassigned triangles
 /// lying on the fitted surface (region growing by distance) and refits,
@@ -81,7 +131,8 @@ WorkRegion integrate_region(const State& state, SurfaceType type, const std::vec
 
 /// Whether a fit is a plausible CAD surface for these triangles rather than a
 /// fit of noise (beyond the thesis): cones between 1 deg and the maximum
-/// half angle with the apex near the part, ring tori (r < R), and curvature
+/// half angle with the apex near the part, tori with R > 0 (ring, horn and
+/// spindle: a spindle torus's outer part rounds a boss end), and curvature
 /// that shows over the region (the sagitta e^2 / (8 rho) over the region's
 /// extent e exceeds the tolerance; otherwise a plane would do).
 bool plausible_fit(const State& state, const SurfacePrimitive& surface, const std::vector<index_t>& triangles);

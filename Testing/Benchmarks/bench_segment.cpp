@@ -1,6 +1,7 @@
 // Benchmark of FEMorph Segment (goals in docs/ARCHITECTURE.md): per-step
 // times like thesis Table 2.9 for each Data/ part and for a fine part of
-// about 200,000 boundary triangles, triangles per second end to end, and, in
+// about 200,000 boundary triangles, triangles per second of the core and of
+// the filter vtkFEMorphSegment end to end (columns "filter"), and, in
 // the same command, the peer: CGAL's Efficient RANSAC shape detection on the
 // same boundary points and normals, with its time and the primitives it finds
 // against the truth.
@@ -10,6 +11,7 @@
 // The fine part is made by Data/generate_parts.py (Gmsh) into --fine-dir
 // (default: build/bench-data) the first time and reused afterwards.
 #include "vtkFEMorphMeshConversion.h"
+#include "vtkFEMorphSegment.h"
 
 #include "common/parallel.h"
 #include "geometry/surface_primitive.h"
@@ -115,6 +117,7 @@ struct Row {
   femorph::SegmentationTimes times;  // medians per step
   double extract = 0;                // boundary extraction, median
   double total = 0;                  // extraction + segmentation, median
+  double filter = 0;                 // vtkFEMorphSegment end to end (input grid to its outputs), median
   std::array<int, 6> found{}, truth{};
   int split_faces = 0, mixed_regions = 0;  // against CADFace
   double cgal_seconds = -1;
@@ -167,6 +170,17 @@ Row run_part(const std::string& vtu, const std::string& name, int repeats, bool 
     t_refine.push_back(T.refinement);
     t_curves.push_back(T.curves);
   }
+  // End to end through the filter, as ParaView runs it: conversion from the
+  // grid, the segmentation, the output arrays, surface and table.
+  std::vector<double> t_filter;
+  for (int r = 0; r < repeats; ++r) {
+    vtkNew<vtkFEMorphSegment> filter;
+    filter->SetInputData(grid);
+    const auto start = Clock::now();
+    filter->Update();
+    t_filter.push_back(seconds_since(start));
+  }
+  row.filter = median(t_filter);
   row.triangles = surface.num_triangles();
   row.extract = median(t_extract);
   row.total = median(t_total);
@@ -285,15 +299,17 @@ int main(int argc, char** argv) {
   }
 
   std::printf("\nPer-step times in ms (thesis Table 2.9 layout)\n");
-  std::printf("%-18s %8s %7s %6s %6s %6s %6s %6s %6s %6s %6s %7s %6s %6s %8s %10s\n", "part", "tris", "extract",
-              "sharp", "curv", "planes", "cyl", "cones", "sphere", "tori", "remain", "cleanup", "refine", "curves",
-              "total", "tris/s");
+  std::printf("%-18s %8s %7s %6s %6s %6s %6s %6s %6s %6s %6s %7s %6s %6s %8s %10s %8s %10s\n", "part", "tris",
+              "extract", "sharp", "curv", "planes", "cyl", "cones", "sphere", "tori", "remain", "cleanup", "refine",
+              "curves", "total", "tris/s", "filter", "filter/s");
   for (const Row& r : rows) {
     const auto& T = r.times;
-    std::printf("%-18s %8d %7.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %7.1f %6.1f %6.1f %8.1f %10.0f\n",
-                r.name.c_str(), r.triangles, 1e3 * r.extract, 1e3 * T.sharp_edges, 1e3 * T.curvature, 1e3 * T.planes,
-                1e3 * T.cylinders, 1e3 * T.cones, 1e3 * T.spheres, 1e3 * T.tori, 1e3 * T.remaining, 1e3 * T.cleanup,
-                1e3 * T.refinement, 1e3 * T.curves, 1e3 * r.total, r.triangles / r.total);
+    std::printf(
+        "%-18s %8d %7.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %6.1f %7.1f %6.1f %6.1f %8.1f %10.0f %8.1f %10.0f\n",
+        r.name.c_str(), r.triangles, 1e3 * r.extract, 1e3 * T.sharp_edges, 1e3 * T.curvature, 1e3 * T.planes,
+        1e3 * T.cylinders, 1e3 * T.cones, 1e3 * T.spheres, 1e3 * T.tori, 1e3 * T.remaining, 1e3 * T.cleanup,
+        1e3 * T.refinement, 1e3 * T.curves, 1e3 * r.total, r.triangles / r.total, 1e3 * r.filter,
+        r.triangles / r.filter);
   }
   std::printf("\nPrimitives found, plane/cylinder/cone/sphere/torus(+unknown); CAD faces split over regions\n");
   std::printf("%-18s %14s %14s %6s %14s %9s %9s %9s\n", "part", "truth", "FEMorph", "split", "CGAL", "CGAL s",
@@ -304,12 +320,15 @@ int main(int argc, char** argv) {
                 r.cgal_seconds >= 0 ? counts_text(r.cgal, false).c_str() : "-", r.cgal_seconds, r.total,
                 r.cgal_seconds > 0 ? r.cgal_seconds / r.total : 0.0);
   }
-  double all_tris = 0, all_time = 0;
+  double all_tris = 0, all_time = 0, all_filter = 0;
   for (const Row& r : rows) {
     all_tris += r.triangles;
     all_time += r.total;
+    all_filter += r.filter;
   }
   std::printf("\nall parts: %.0f triangles in %.3f s = %.0f triangles/s (goal >= 100,000/s)\n", all_tris, all_time,
               all_tris / all_time);
+  std::printf("all parts through vtkFEMorphSegment (end to end): %.3f s = %.0f triangles/s\n", all_filter,
+              all_tris / all_filter);
   return 0;
 }

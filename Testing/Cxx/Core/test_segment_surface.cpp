@@ -311,5 +311,62 @@ TEST(SegmentBoundary, WarnsAboutAnUnmergedSeam) {
   for (const std::string& w : control.warnings) EXPECT_EQ(w.find("lie on top"), std::string::npos) << w;
 }
 
+
+/// A closed surface of revolution about the z axis: the profile (rho, z)
+/// runs from a point on the axis to another one; n segments around.
+SurfaceMesh revolve(const std::vector<Eigen::Vector2d>& profile, int n) {
+  std::vector<Vec3> p;
+  std::vector<Tri> t;
+  p.emplace_back(0, 0, profile.front().y());
+  const index_t rings = static_cast<index_t>(profile.size()) - 2;
+  for (index_t i = 1; i <= rings; ++i)
+    for (int k = 0; k < n; ++k) {
+      const double a = 2 * kPi * k / n;
+      p.emplace_back(profile[i].x() * std::cos(a), profile[i].x() * std::sin(a), profile[i].y());
+    }
+  p.emplace_back(0, 0, profile.back().y());
+  const index_t top = static_cast<index_t>(p.size()) - 1;
+  auto id = [n](index_t ring, int k) { return 1 + (ring - 1) * n + (k % n); };
+  for (int k = 0; k < n; ++k) {
+    t.push_back({0, id(1, k + 1), id(1, k)});
+    for (index_t i = 1; i < rings; ++i) {
+      t.push_back({id(i, k), id(i, k + 1), id(i + 1, k + 1)});
+      t.push_back({id(i, k), id(i + 1, k + 1), id(i + 1, k)});
+    }
+    t.push_back({top, id(rings, k), id(rings, k + 1)});
+  }
+  SurfaceMesh s;
+  EXPECT_TRUE(build_surface_mesh(p, t, s).ok);
+  return s;
+}
+
+TEST(SegmentSurface, SpindleTorusBossEnd) {
+  // A boss of radius R + r = 19.2 whose end is rounded by a spindle torus
+  // (major radius R = 9.2 below the minor radius r = 10, issue 28): tangent
+  // to the side cylinder, it reaches the axis in a dimple. Planar bottom.
+  const double R = 9.2, r = 10, h = 10;
+  std::vector<Eigen::Vector2d> q;
+  for (int i = 0; i <= 8; ++i) q.emplace_back((R + r) * i / 8.0, -h);
+  for (int i = 1; i <= 10; ++i) q.emplace_back(R + r, -h + h * i / 10.0);
+  const double end = std::acos(-R / r);
+  for (int i = 1; i <= 40; ++i) {
+    const double a = end * i / 40.0;
+    q.emplace_back(R + r * std::cos(a), r * std::sin(a));
+  }
+  q.back().x() = 0;
+  const SurfaceMesh s = revolve(q, 72);
+  const Segmentation seg = run(s);
+  const auto types = count_types(seg);
+  EXPECT_EQ(types.count(SurfaceType::Unknown), 0u);
+  ASSERT_EQ(types.count(SurfaceType::Torus), 1u);
+  EXPECT_EQ(types.at(SurfaceType::Torus), 1);
+  for (const Region& region : seg.regions)
+    if (region.type == SurfaceType::Torus) {
+      EXPECT_NEAR(region.surface.radius, R, 1e-6 * R);
+      EXPECT_NEAR(region.surface.minor_radius, r, 1e-6 * r);
+      EXPECT_LT(std::abs(std::abs(region.surface.axis.z()) - 1), 1e-9);
+    }
+}
+
 }  // namespace
 }  // namespace femorph

@@ -13,6 +13,7 @@
 #include "vtkIntArray.h"
 #include "vtkMath.h"
 #include "vtkNew.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnstructuredGrid.h"
@@ -24,6 +25,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <random>
 #include <set>
@@ -237,6 +239,111 @@ TEST_P(SegmentPart, JitteredVerticesKeepTypesAndRadiiWithin1e3) {
   const Result r = segment(jittered, params);
   check_against_cad(part, r, 1e-3);
 }
+
+/// Accuracy of a segmentation against the CAD faces: the fraction of
+/// triangles in the region of their own CAD face (the region holding most of
+/// the face's triangles, whose own largest face is that face or one surface
+/// with it) and the fraction in a region of their face's type.
+struct Accuracy {
+  double in_region = 0, typed = 0;
+  std::string wrong;  // the CAD faces with triangles out of place or mistyped
+};
+
+Accuracy accuracy(const Part& part, const Result& r) {
+  std::map<int, std::map<femorph::index_t, int>> cad_regions;
+  std::map<femorph::index_t, std::map<int, int>> region_cads;
+  for (std::size_t f = 0; f < r.triangle_cad.size(); ++f) {
+    ++cad_regions[r.triangle_cad[f]][r.seg.triangle_region[f]];
+    ++region_cads[r.seg.triangle_region[f]][r.triangle_cad[f]];
+  }
+  auto largest = [](const auto& counts) {
+    auto best = counts.begin();
+    for (auto it = counts.begin(); it != counts.end(); ++it)
+      if (it->second > best->second) best = it;
+    return best->first;
+  };
+  std::size_t in_region = 0, typed = 0;
+  std::map<int, std::pair<int, int>> misses;  // tag -> (out of place, mistyped)
+  std::map<int, std::string> as;              // tag -> a wrong type it got
+  for (std::size_t f = 0; f < r.triangle_cad.size(); ++f) {
+    const int tag = r.triangle_cad[f];
+    const femorph::index_t region = r.seg.triangle_region[f];
+    const SurfacePrimitive truth = surface_of(part.faces.at(tag));
+    const bool type_ok = r.seg.regions[region].type == truth.type;
+    typed += type_ok;
+    misses[tag].second += !type_ok;
+    if (!type_ok) as[tag] = femorph::to_string(r.seg.regions[region].type);
+    const int owner = largest(region_cads[region]);
+    const bool placed = largest(cad_regions[tag]) == region &&
+                        (owner == tag ||
+                         femorph::same_surface(truth, surface_of(part.faces.at(owner)), 1e-9, part.scale, 1e-9));
+    in_region += placed;
+    misses[tag].first += !placed;
+  }
+  const double n = static_cast<double>(r.triangle_cad.size());
+  Accuracy a{static_cast<double>(in_region) / n, static_cast<double>(typed) / n, ""};
+  for (const auto& [tag, m] : misses)
+    if (m.first || m.second)
+      a.wrong += "\n  CAD face " + std::to_string(tag) + " (" + part.faces.at(tag)["label"].get<std::string>() +
+                 "): " + std::to_string(m.first) + " out of place, " + std::to_string(m.second) + " mistyped" +
+                 (as.count(tag) ? " (e.g. as " + as[tag] + ")" : std::string());
+  return a;
+}
+
+/// The part with its boundary-curve nodes (CADEntityDim 0 or 1) moved off
+/// their faces by 1e-4 to 5e-4 of the bounding box diagonal in a random
+/// direction, the nodes inside faces left exact: how a mesh made from a STEP
+/// file looks, whose edge curves are approximations of the face
+/// intersections (issue 28). Seam curves (one adjacent face: a line or
+/// circle of the surface itself) stay exact.
+vtkSmartPointer<vtkUnstructuredGrid> approximate_curves(const Part& part) {
+  vtkNew<vtkUnstructuredGrid> out;
+  out->DeepCopy(part.grid);
+  vtkIntArray* dim = vtkIntArray::SafeDownCast(out->GetPointData()->GetArray("CADEntityDim"));
+  vtkIntArray* tag = vtkIntArray::SafeDownCast(out->GetPointData()->GetArray("CADEntityTag"));
+  EXPECT_NE(dim, nullptr);
+  EXPECT_NE(tag, nullptr);
+  std::set<int> seams;
+  for (const json& c : part.truth["curves"])
+    if (c["surfaces"].size() < 2) seams.insert(c["tag"].get<int>());
+  std::mt19937_64 rng(28);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), size(1e-4, 5e-4);
+  for (vtkIdType p = 0; dim && tag && p < out->GetNumberOfPoints(); ++p) {
+    if (dim->GetValue(p) > 1 || (dim->GetValue(p) == 1 && seams.count(tag->GetValue(p)))) continue;
+    Vec3 d;
+    do d = Vec3(u(rng), u(rng), u(rng));
+    while (d.norm() > 1 || d.norm() < 1e-3);
+    d *= size(rng) * part.scale / d.norm();
+    double x[3];
+    out->GetPoint(p, x);
+    for (int k = 0; k < 3; ++k) x[k] += d[k];
+    out->GetPoints()->SetPoint(p, x);
+  }
+  return out;
+}
+
+class SegmentPartApproximateCurves : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SegmentPartApproximateCurves, AtDefaults) {
+  // Issue 28's goals at the default settings: >= 99.9% of the triangles in
+  // the region of their CAD face, >= 99.5% in a region of its type.
+  const Part part = load(GetParam());
+  const Result r = segment(approximate_curves(part), femorph::SegmentationParams());
+  const Accuracy a = accuracy(part, r);
+  std::size_t unknown = 0;
+  for (const femorph::Region& region : r.seg.regions) unknown += region.type == SurfaceType::Unknown;
+  std::cout << GetParam() << ": " << r.triangle_cad.size() << " triangles, " << a.in_region << " in region, "
+            << a.typed << " typed, " << r.seg.regions.size() << " regions (" << unknown << " unknown)\n";
+  EXPECT_GE(a.in_region, 0.999) << a.wrong;
+  EXPECT_GE(a.typed, 0.995) << a.wrong;
+}
+
+INSTANTIATE_TEST_SUITE_P(DataParts, SegmentPartApproximateCurves,
+                         ::testing::Values("boss_block", "filleted_box", "cone_sphere_torus"));
+// Not yet at the goals with approximate curves: the G1 fillet junctions and
+// the freeform face (issue 28).
+INSTANTIATE_TEST_SUITE_P(DISABLED_DataPartsNotYet, SegmentPartApproximateCurves,
+                         ::testing::Values("fillet_junctions", "bspline_face"));
 
 INSTANTIATE_TEST_SUITE_P(DataParts, SegmentPart,
                          ::testing::Values("boss_block", "filleted_box", "cone_sphere_torus", "fillet_junctions",
