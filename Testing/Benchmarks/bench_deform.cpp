@@ -21,6 +21,8 @@
 //  compare two versions with OMP_NUM_THREADS=1 on a machine others load);
 //  - parameterize_vertices of a local region: extract_deformable_region with
 //    the reach (found by bisection) that gives about --inner inner unknowns;
+//    the same for the hole's radius 6 -> 7 (a feature small enough for a
+//    local region of the goal's size);
 //  - update_region_surfaces + reposition_vertices for a new target on that
 //    parameterisation, with its solve history (superposition, as
 //    DeformSession repositions) and without (every target solved);
@@ -169,6 +171,7 @@ struct Part {
   femorph::TetMesh mesh;  ///< with the segmentation's face regions
   femorph::DeformRegions regions;
   index_t boss_top = femorph::kInvalidIndex;
+  index_t hole = femorph::kInvalidIndex;  ///< the through hole's cylinder (r 6 at x 75, y 30)
   double size_scale = std::numeric_limits<double>::quiet_NaN();  ///< fine.size_scale of the JSON
   double seconds_segment = 0;
   std::size_t vertices = 0, tets = 0;
@@ -201,6 +204,9 @@ bool load_part(const std::string& path, Part& part) {
   part.regions.convexity = seg.RegionConvexity;
   for (std::size_t r = 0; r < part.regions.size(); ++r) {
     const femorph::SurfacePrimitive& s = part.regions.surfaces[r];
+    if (s.type == femorph::SurfaceType::Cylinder && std::abs(s.axis.z()) > 0.999 && std::abs(s.radius - 6) < 1e-3 &&
+        (Vec3(s.point.x(), s.point.y(), 0) - Vec3(75, 30, 0)).norm() < 1e-3)
+      part.hole = static_cast<index_t>(r);
     if (s.type != femorph::SurfaceType::Plane || s.axis.z() < 0.999) continue;
     if (std::abs(s.axis.dot(Vec3(0, 0, 35) - s.point)) < 1e-6) part.boss_top = static_cast<index_t>(r);
   }
@@ -412,6 +418,67 @@ int main(int argc, char** argv) {
               t_update, history.inner.size(), superposition_error);
   print_row("  the same, every target solved (no history)", runs, t_reposition_solved, NAN, "-");
   print_row("update_region_surfaces + reposition_vertices, whole", runs, t_reposition_whole, NAN, "-");
+
+  // The same local rows for the hole's radius 6 -> 7 (CylinderRadius): a
+  // smaller feature, whose local region can be as small as the goal's ~5,000
+  // inner unknowns (the boss's cannot: the boss itself has more).
+  if (part.hole >= 0) {
+    femorph::DeformOptions ho;
+    ho.type = femorph::DeformationType::CylinderRadius;
+    ho.control_region = part.hole;
+    femorph::DeformPlan hole_plan;
+    const femorph::Status hs = femorph::classify_surface_regions(
+        part.mesh, part.regions, femorph::region_adjacency(part.mesh, part.regions.size()), ho, hole_plan);
+    if (!hs) {
+      std::fprintf(stderr, "classify_surface_regions (hole): %s\n", hs.message.c_str());
+      return 1;
+    }
+    double hole_reach = 0;
+    std::vector<std::uint8_t> hole_region;
+    femorph::VertexParameterization hole_local;
+    double hlo = 0, hhi = hole_plan.part_size;
+    for (int it = 0; it < 30; ++it) {
+      const double mid = 0.5 * (hlo + hhi);
+      std::vector<std::uint8_t> r = femorph::extract_deformable_region(part.mesh, hole_plan, mid);
+      femorph::VertexParameterization p;
+      if (!femorph::parameterize_vertices(part.mesh, hole_plan, r, p)) return 1;
+      const double n = static_cast<double>(p.inner.unknowns.size()), goal = static_cast<double>(inner_target);
+      if (hole_region.empty() || std::abs(n - goal) < std::abs(static_cast<double>(hole_local.inner.unknowns.size()) - goal)) {
+        hole_reach = mid;
+        hole_region = r;
+        hole_local = std::move(p);
+      }
+      if (n < goal) hlo = mid;
+      else hhi = mid;
+      if (std::abs(n - goal) <= 0.02 * goal) break;
+    }
+    std::size_t hole_tets = 0;
+    for (const auto d : hole_region) hole_tets += d != 0;
+    const double t_hole = time_median(runs, [&] {
+      ok = ok && femorph::parameterize_vertices(part.mesh, hole_plan, hole_region, hole_local);
+    });
+    const double t_hole_region =
+        time_median(runs, [&] { femorph::extract_deformable_region(part.mesh, hole_plan, hole_reach); });
+    const double hole_targets[2] = {7.0, 6.5};
+    femorph::RepositionHistory hole_history;
+    femorph::reposition_vertices(part.mesh, part.regions, hole_local,
+                                 femorph::update_region_surfaces(hole_plan, part.regions, 7.5), points, &hole_history);
+    k = 0;
+    const double t_hole_reposition = time_median(runs, [&] {
+      const femorph::SurfaceUpdate u = femorph::update_region_surfaces(hole_plan, part.regions, hole_targets[k++ % 2]);
+      femorph::reposition_vertices(part.mesh, part.regions, hole_local, u, superposed, &hole_history);
+    });
+    std::printf("hole radius 6 -> 7 (region %d): local region: reach %.4g mm (bisection), %zu deformable tets, "
+                "unknowns curve %zu, surface %zu, inner %zu\n",
+                part.hole, hole_reach, hole_tets, hole_local.curves.unknowns.size(),
+                hole_local.surfaces.unknowns.size(), hole_local.inner.unknowns.size());
+    print_row("parameterize_vertices, local region (hole)", runs, t_hole, 0.05, "0.10");
+    print_row("  extract_deformable_region (not in the row above)", runs, t_hole_region, NAN, "-");
+    print_row("update_region_surfaces + reposition_vertices (hole)", runs, t_hole_reposition, 0.005, "0.0074");
+    std::printf("  %zu solutions stored in the history\n", hole_history.inner.size());
+  } else {
+    std::printf("no hole region (cylinder r 6 at x 75, y 30) found: no hole rows\n");
+  }
   if (whole_on)
     std::printf("memory: whole-mesh parameterisation peak %.0f bytes per tet above the resident set before it "
               "(%.1f MB for %zu tets)\n",
