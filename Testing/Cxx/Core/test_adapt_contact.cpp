@@ -375,6 +375,20 @@ TEST(AdaptContact, CylinderTurnsInsideHalfTube) {
 
 // A block lowered onto a plate, then slid along it: planar contact (the
 // plane's chart), the block's bottom face shared with the plate.
+/// The block's (material 1) vertices, mapped back by the inverse of its pose,
+/// lie in its initial box [3, 5] x [4, 6] x [4, 6].
+void expect_block_in_its_box(const AdaptOutput& out, const RigidPose& pose, int n) {
+  const RigidPose back = pose.inverse();
+  for (std::size_t t = 0; t < out.tets.size(); ++t)
+    if (out.material[t] == 1)
+      for (const index_t p : out.tets[t]) {
+        const Vec3 x = back.apply(out.points[p]);
+        EXPECT_TRUE((x.array() >= Eigen::Array3d(3, 4, 4) - 1e-9).all() &&
+                    (x.array() <= Eigen::Array3d(5, 6, 6) + 1e-9).all())
+            << "step " << n << ": a block vertex outside its box at " << x.transpose();
+      }
+}
+
 TEST(AdaptContact, BlockLandsOnPlateAndSlides) {
   testing::MaterialMesh mm = testing::make_block_in_box({{10, 10, 8}}, {{2, 2, 2}}, 1.0, 0.0, 1, {{3, 4, 4}});
   for (std::size_t t = 0; t < mm.tets.size(); ++t) {
@@ -405,16 +419,7 @@ TEST(AdaptContact, BlockLandsOnPlateAndSlides) {
     EXPECT_EQ(report.contact_faces, shared) << "step " << n;
     EXPECT_NEAR(signed_volume(out.points, out.tets, out.material, 1), 8.0, 1e-9) << "step " << n;
     EXPECT_NEAR(signed_volume(out.points, out.tets, out.material, 2), 48.0, 1e-9) << "step " << n;
-    // The block's vertices, mapped back, in its initial box.
-    const RigidPose back = motion.pose(n).inverse();
-    for (std::size_t t = 0; t < out.tets.size(); ++t)
-      if (out.material[t] == 1)
-        for (const index_t p : out.tets[t]) {
-          const Vec3 x = back.apply(out.points[p]);
-          EXPECT_TRUE((x.array() >= Eigen::Array3d(3, 4, 4) - 1e-9).all() &&
-                      (x.array() <= Eigen::Array3d(5, 6, 6) + 1e-9).all())
-              << "step " << n << ": a block vertex outside its box at " << x.transpose();
-        }
+    expect_block_in_its_box(out, motion.pose(n), n);
     EXPECT_GE(report.min_stretch, 0.1) << "step " << n;
     std::printf("block on plate, step %d: %zu points, min stretch %.3f, %.3f s\n", n, out.points.size(),
                 report.min_stretch, report.seconds);
@@ -498,15 +503,7 @@ TEST(AdaptContact, BlockTouchesPlateAndWallAtOnce) {
     EXPECT_NEAR(signed_volume(out.points, out.tets, out.material, 1), 8.0, 1e-9) << "step " << n;
     EXPECT_NEAR(signed_volume(out.points, out.tets, out.material, 2), 48.0, 1e-9) << "step " << n;
     EXPECT_NEAR(signed_volume(out.points, out.tets, out.material, 3), 18.0, 1e-9) << "step " << n;
-    const RigidPose back = motion.pose(n).inverse();
-    for (std::size_t t = 0; t < out.tets.size(); ++t)
-      if (out.material[t] == 1)
-        for (const index_t p : out.tets[t]) {
-          const Vec3 x = back.apply(out.points[p]);
-          EXPECT_TRUE((x.array() >= Eigen::Array3d(3, 4, 4) - 1e-9).all() &&
-                      (x.array() <= Eigen::Array3d(5, 6, 6) + 1e-9).all())
-              << "step " << n << ": a block vertex outside its box at " << x.transpose();
-        }
+    expect_block_in_its_box(out, motion.pose(n), n);
     EXPECT_GE(report.min_stretch, 0.1) << "step " << n;
     std::printf("block on plate and wall, step %d: %zu points, %zu + %zu contact faces, min stretch %.3f, %.3f s\n", n,
                 out.points.size(), plate_faces, wall_faces, report.min_stretch, report.seconds);
