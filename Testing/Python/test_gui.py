@@ -46,7 +46,10 @@ def main():
     env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_"))}
     env.update(FEMORPH_PLUGIN=args.plugin, FEMORPH_DATA=args.data, FEMORPH_GUI_OUT=args.out)
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "gui_filters.py")
-    cmd = [xvfb, "-a", "-s", "-noreset -screen 0 1280x1024x24", paraview, "--script=" + script]
+    # --dr: no user settings (a user's saved RegionId colour map would hide
+    # the plugin's) and no welcome dialog (modal, it would stop the script).
+    cmd = [xvfb, "-a", "-s", "-noreset -screen 0 1280x1024x24", paraview, "--dr",
+           "--script=" + script]
     proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                           timeout=400)
     result_path = os.path.join(args.out, "result.json")
@@ -68,6 +71,22 @@ def main():
             failures.append("%s: Output Messages has errors: %s" % (name, r["errors"]))
         if not r["screenshot"] or colours(r["screenshot"]) < 8:
             failures.append("%s: no screenshot, or one without the mesh" % name)
+    # Segment's Surface comes up coloured by RegionId with a categorical map.
+    colouring = result.get("segment_colouring", {})
+    print("Segment Surface colouring: %s" % colouring)
+    if colouring.get("array") != ["CELLS", "RegionId"]:
+        failures.append("Segment's Surface is not coloured by RegionId: %s" % colouring)
+    if not colouring.get("categorical"):
+        failures.append("RegionId's colour map does not interpret values as categories")
+    # The Regions table reads like a CAD feature list: id, type, dimensions.
+    table = result.get("regions_table", {})
+    # Header labels left to right, the spreadsheet's own "Row ID" first.
+    columns = [c for c in table.get("columns", []) if c != "Row ID"]
+    print("Regions table columns in the spreadsheet: %s" % columns)
+    if columns[:3] != ["RegionId", "TypeName", "Radius"]:
+        failures.append("Regions table columns not in the table's order: %s" % columns)
+    elif "Apex" in columns and columns.index("Apex") < columns.index("Axis"):
+        failures.append("Regions table: Apex before Axis: %s" % columns)
     errors = [m for m in result["messages"] if "ERROR" in m]
     if errors:
         failures.append("errors in Output Messages: %s" % errors)
