@@ -1,13 +1,16 @@
 """Runs inside the ParaView GUI (`paraview --script=gui_filters.py`, started
 by test_gui.py under Xvfb): applies every FEMorph filter from its proxy with
 its default properties to a Data/ mesh, shows each output in the render view
-and saves a screenshot per filter into FEMORPH_GUI_OUT. The messages VTK sends to the output
+and saves a screenshot per filter into FEMORPH_GUI_OUT; then opens Segment's Regions
+table in a spreadsheet view and keeps its header's column order and the
+screen (RegionsTable.xwd). The messages VTK sends to the output
 window (what the GUI's Output Messages shows) are captured; the results go to
 FEMORPH_GUI_OUT/result.json. Ends the application with os._exit (the GUI has
 no way to quit from a startup script otherwise).
 """
 import json
 import os
+import shutil
 import threading
 import time
 import traceback
@@ -102,13 +105,21 @@ try:
     Render(sheet)
     layout = GetLayout(sheet)
     key = "FEMorph.ColumnOrder"
-    for i in range(25):
-        if sheet.SMProxy.HasAnnotation(key):
+    painted = 0
+    for i in range(30):
+        # Once ordered, a few more rounds to let the table paint.
+        painted += sheet.SMProxy.HasAnnotation(key)
+        if painted > 5:
             break
         time.sleep(0.2)
-        layout.SetSplitFraction(0, 0.5 + 0.01 * (i % 2))
+        layout.SetSplitFraction(0, 0.15 + 0.01 * (i % 2))
     order = sheet.SMProxy.GetAnnotation(key) if sheet.SMProxy.HasAnnotation(key) else ""
     result["regions_table"] = {"columns": order.split(",") if order else []}
+    # The whole screen as the user sees it: SaveScreenshot captures only
+    # render views; Xvfb keeps its screen in an XWD file (-fbdir).
+    screen = os.path.join(os.environ.get("FEMORPH_GUI_FBDIR", ""), "Xvfb_screen0")
+    if os.path.exists(screen):
+        shutil.copy(screen, os.path.join(out, "RegionsTable.xwd"))
     result["messages"] = messages.GetOutput().splitlines()
 except Exception:
     result["failures"].append(traceback.format_exc())
