@@ -1,14 +1,18 @@
 """Runs inside the ParaView GUI (`paraview --script=gui_filters.py`, started
 by test_gui.py under Xvfb): applies every FEMorph filter from its proxy with
 its default properties to a Data/ mesh, shows each output in the render view
-and saves a screenshot per filter into FEMORPH_GUI_OUT. The messages VTK sends to the output
+and saves a screenshot per filter into FEMORPH_GUI_OUT; then opens Segment's Regions
+table in a spreadsheet view and keeps its header's column order and the
+screen (RegionsTable.xwd). The messages VTK sends to the output
 window (what the GUI's Output Messages shows) are captured; the results go to
 FEMORPH_GUI_OUT/result.json. Ends the application with os._exit (the GUI has
 no way to quit from a startup script otherwise).
 """
 import json
 import os
+import shutil
 import threading
+import time
 import traceback
 
 out = os.environ["FEMORPH_GUI_OUT"]
@@ -32,9 +36,9 @@ watchdog = threading.Timer(240, give_up)
 watchdog.daemon = True
 watchdog.start()
 try:
-    from paraview.simple import (ColorBy, GetActiveViewOrCreate, Hide,
-                                 LoadPlugin, OutputPort, ResetCamera, SaveScreenshot, Show,
-                                 XMLUnstructuredGridReader)
+    from paraview.simple import (AssignViewToLayout, CreateView, GetActiveViewOrCreate,
+                                 GetColorTransferFunction, GetLayout, Hide, LoadPlugin, OutputPort, Render,
+                                 ResetCamera, SaveScreenshot, Show, XMLUnstructuredGridReader)
     from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 
     # The GUI's output window routes every vtkErrorMacro / vtkWarningMacro to
@@ -74,7 +78,12 @@ try:
         shown = OutputPort(f, 1) if name == "Segment" else f
         display = Show(shown, view)
         if name == "Segment":
-            ColorBy(display, ("CELLS", "RegionId"))
+            # No ColorBy: the colouring the Surface output comes up with.
+            segment = f
+            colour = display.ColorArrayName
+            result["segment_colouring"] = {
+                "array": [colour[0], colour[1]],
+                "categorical": bool(GetColorTransferFunction("RegionId").InterpretValuesAsCategories)}
         view.CameraPosition = [1, -1.5, 1.2]
         view.CameraFocalPoint = [0, 0, 0]
         view.CameraViewUp = [0, 0, 1]
@@ -86,6 +95,31 @@ try:
         errors = [line for line in text.splitlines() if "ERROR" in line]
         result["filters"][name] = {"cells": info.GetNumberOfCells(), "errors": errors,
                                    "screenshot": png if os.path.exists(png) else None}
+    # Segment's Regions table in a spreadsheet view, as a user opens it. The
+    # plugin's GUI part orders the header's sections once the spreadsheet's
+    # model has its columns, in the Qt event loop; changing the layout makes
+    # ParaView process pending events (pqMultiViewWidget::reload).
+    sheet = CreateView("SpreadSheetView")
+    AssignViewToLayout(view=sheet)
+    Show(OutputPort(segment, 2), sheet)
+    Render(sheet)
+    layout = GetLayout(sheet)
+    key = "FEMorph.ColumnOrder"
+    painted = 0
+    for i in range(30):
+        # Once ordered, a few more rounds to let the table paint.
+        painted += sheet.SMProxy.HasAnnotation(key)
+        if painted > 5:
+            break
+        time.sleep(0.2)
+        layout.SetSplitFraction(0, 0.15 + 0.01 * (i % 2))
+    order = sheet.SMProxy.GetAnnotation(key) if sheet.SMProxy.HasAnnotation(key) else ""
+    result["regions_table"] = {"columns": order.split(",") if order else []}
+    # The whole screen as the user sees it: SaveScreenshot captures only
+    # render views; Xvfb keeps its screen in an XWD file (-fbdir).
+    screen = os.path.join(os.environ.get("FEMORPH_GUI_FBDIR", ""), "Xvfb_screen0")
+    if os.path.exists(screen):
+        shutil.copy(screen, os.path.join(out, "RegionsTable.xwd"))
     result["messages"] = messages.GetOutput().splitlines()
 except Exception:
     result["failures"].append(traceback.format_exc())

@@ -12,6 +12,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 
 FILTERS = ["MeshQuality", "Segment", "Improve", "Deform", "Adapt", "HexToTet", "TetToHex"]
 
@@ -26,6 +27,31 @@ def colours(png):
     r.Update()
     pixels = vtk_to_numpy(r.GetOutput().GetPointData().GetScalars())
     return len(np.unique(pixels.reshape(len(pixels), -1), axis=0))
+
+
+def xwd_to_png(xwd, png):
+    """An X window dump (Xvfb's -fbdir screen, 32 bits per pixel) as a PNG."""
+    import struct
+    import numpy as np
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    data = open(xwd, "rb").read()
+    h = struct.unpack(">25I", data[:100])
+    header_size, width, height, byte_order, bpp, bpl, ncolors = (
+        h[0], h[4], h[5], h[7], h[11], h[12], h[19])
+    if bpp != 32:
+        raise ValueError("%s: %d bits per pixel" % (xwd, bpp))
+    px = np.frombuffer(data, dtype=np.uint8, count=bpl * height, offset=header_size + 12 * ncolors)
+    px = px.reshape(height, bpl)[:, :4 * width].reshape(height, width, 4)
+    rgb = px[:, :, [2, 1, 0]] if byte_order == 0 else px[:, :, [1, 2, 3]]
+    img = vtkImageData()
+    img.SetDimensions(width, height, 1)
+    img.GetPointData().SetScalars(numpy_to_vtk(np.ascontiguousarray(rgb[::-1]).reshape(-1, 3), deep=1))
+    w = vtkPNGWriter()
+    w.SetFileName(png)
+    w.SetInputData(img)
+    w.Write()
 
 
 def main():
@@ -44,11 +70,19 @@ def main():
     for old in glob.glob(os.path.join(args.out, "*")):
         os.remove(old)
     env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_"))}
-    env.update(FEMORPH_PLUGIN=args.plugin, FEMORPH_DATA=args.data, FEMORPH_GUI_OUT=args.out)
+    fbdir = tempfile.mkdtemp(prefix="femorph_gui_screen_")
+    env.update(FEMORPH_PLUGIN=args.plugin, FEMORPH_DATA=args.data, FEMORPH_GUI_OUT=args.out,
+               FEMORPH_GUI_FBDIR=fbdir)
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "gui_filters.py")
-    cmd = [xvfb, "-a", "-s", "-noreset -screen 0 1280x1024x24", paraview, "--script=" + script]
-    proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                          timeout=400)
+    # --dr: no user settings (a user's saved RegionId colour map would hide
+    # the plugin's) and no welcome dialog (modal, it would stop the script).
+    cmd = [xvfb, "-a", "-s", "-noreset -screen 0 1280x1024x24 -fbdir " + fbdir, paraview, "--dr",
+           "--script=" + script]
+    try:
+        proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                              text=True, timeout=400)
+    finally:
+        shutil.rmtree(fbdir, ignore_errors=True)
     result_path = os.path.join(args.out, "result.json")
     if not os.path.exists(result_path):
         print(proc.stdout)
@@ -68,6 +102,29 @@ def main():
             failures.append("%s: Output Messages has errors: %s" % (name, r["errors"]))
         if not r["screenshot"] or colours(r["screenshot"]) < 8:
             failures.append("%s: no screenshot, or one without the mesh" % name)
+    # Segment's Surface comes up coloured by RegionId with a categorical map.
+    colouring = result.get("segment_colouring", {})
+    print("Segment Surface colouring: %s" % colouring)
+    if colouring.get("array") != ["CELLS", "RegionId"]:
+        failures.append("Segment's Surface is not coloured by RegionId: %s" % colouring)
+    if not colouring.get("categorical"):
+        failures.append("RegionId's colour map does not interpret values as categories")
+    # The Regions table reads like a CAD feature list: id, type, dimensions.
+    table = result.get("regions_table", {})
+    # Header labels left to right, the spreadsheet's own "Row ID" first.
+    columns = [c for c in table.get("columns", []) if c != "Row ID"]
+    print("Regions table columns in the spreadsheet: %s" % columns)
+    if columns[:3] != ["RegionId", "TypeName", "Radius"]:
+        failures.append("Regions table columns not in the table's order: %s" % columns)
+    elif "Apex" in columns and columns.index("Apex") < columns.index("Axis"):
+        failures.append("Regions table: Apex before Axis: %s" % columns)
+    xwd = os.path.join(args.out, "RegionsTable.xwd")
+    png = os.path.join(args.out, "RegionsTable.png")
+    if os.path.exists(xwd):
+        xwd_to_png(xwd, png)
+        os.remove(xwd)
+    if not os.path.exists(png) or colours(png) < 8:
+        failures.append("no screenshot of the Regions table")
     errors = [m for m in result["messages"] if "ERROR" in m]
     if errors:
         failures.append("errors in Output Messages: %s" % errors)
