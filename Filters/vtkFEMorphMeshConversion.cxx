@@ -16,6 +16,7 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
+#include "common/huge_pages.h"
 #include "common/parallel.h"
 
 #include <array>
@@ -389,7 +390,10 @@ std::string vtkFEMorphMeshConversion::CheckGrid(
 std::vector<femorph::Vec3> vtkFEMorphMeshConversion::ReadPoints(vtkUnstructuredGrid* grid)
 {
   const vtkIdType numPoints = grid->GetNumberOfPoints();
-  std::vector<femorph::Vec3> points(static_cast<std::size_t>(numPoints));
+  std::vector<femorph::Vec3> points;
+  points.reserve(static_cast<std::size_t>(numPoints));
+  femorph::advise_huge_pages(points.data(), static_cast<std::size_t>(numPoints) * sizeof(femorph::Vec3));
+  points.resize(static_cast<std::size_t>(numPoints));
   // Double coordinates in one block (the common case) are copied as they are.
   vtkDoubleArray* doubles =
     numPoints > 0 ? vtkDoubleArray::FastDownCast(grid->GetPoints()->GetData()) : nullptr;
@@ -434,6 +438,8 @@ femorph::Status vtkFEMorphMeshConversion::ReadTetGrid(
   }
   points = ReadPoints(grid);
   const vtkIdType numCells = grid->GetNumberOfCells();
+  tets.reserve(static_cast<std::size_t>(numCells));
+  femorph::advise_huge_pages(tets.data(), static_cast<std::size_t>(numCells) * sizeof(femorph::Tet));
   tets.resize(static_cast<std::size_t>(numCells));
   // The cell array's own storage (offsets and connectivity, 32 or 64 bit):
   // no call per cell.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <new>
@@ -38,6 +39,20 @@ std::unique_ptr<T[], FreeDeleter> huge_page_array(std::size_t n) {
   }
   if (!p) throw std::bad_alloc();
   return std::unique_ptr<T[], FreeDeleter>(static_cast<T*>(p));
+}
+
+/// Advises huge pages for the whole 2 MiB pages inside [p, p + bytes), e.g.
+/// a vector's reserved storage before its first write. A hint only.
+inline void advise_huge_pages(void* p, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr std::uintptr_t kHuge = std::uintptr_t(2) << 20;
+  const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(p) + kHuge - 1) & ~(kHuge - 1);
+  const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(kHuge - 1);
+  if (p && begin < end) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+  (void)p;
+  (void)bytes;
+#endif
 }
 
 }  // namespace femorph

@@ -202,6 +202,8 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
       nv, [&](long v) { std::sort(&faces[start[v]], &faces[start[v + 1]], by_key_then_code); }, kParallelMinItems,
       4096);
 
+  rec_.reserve(nt);
+  advise_huge_pages(rec_.data(), nt * sizeof(TetRecord));
   rec_.resize(nt);
   parallel_for(ntets, [&](long t) {
     rec_[static_cast<std::size_t>(t)] = TetRecord{tets[static_cast<std::size_t>(t)], Tet{{-1, -1, -1, -1}}};
