@@ -5,6 +5,7 @@
 #include "vtkCellType.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetAttributes.h"
+#include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
@@ -14,6 +15,9 @@
 #include "vtkPoints.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
+
+#include "common/huge_pages.h"
+#include "common/parallel.h"
 
 #include <array>
 #include <cmath>
@@ -185,9 +189,10 @@ vtkIdType vtkFEMorphMeshConversion::DescribeOtherCells(
   description.clear();
   std::array<vtkIdType, 256> counts{};
   const vtkIdType numCells = input->GetNumberOfCells();
+  const unsigned char* types = numCells > 0 ? input->GetCellTypesArray()->GetPointer(0) : nullptr;
   for (vtkIdType c = 0; c < numCells; ++c)
   {
-    ++counts[static_cast<unsigned char>(input->GetCellType(c))];
+    ++counts[types[c]];
   }
   counts[static_cast<unsigned char>(acceptedType)] = 0;
   description = DescribeCellCounts(counts);
@@ -329,50 +334,77 @@ std::string vtkFEMorphMeshConversion::CheckGrid(
     }
   }
 
-  // The point count of each linear cell type, and point ids in range.
-  vtkIdType totalIds = 0;
-  vtkIdType npts = 0;
-  const vtkIdType* pts = nullptr;
-  for (vtkIdType c = 0; c < numCells; ++c)
+  // The point count of each linear cell type, and point ids in range, read
+  // from the cell array's own storage (32 or 64 bit): no call per cell.
+  if (numCells == 0)
   {
-    const int type = grid->GetCellType(c);
-    grid->GetCellPoints(c, npts, pts);
-    const int expected = PointsOfCellType(type);
-    if (expected == UnknownCellType)
+    return std::string();
+  }
+  const unsigned char* types = grid->GetCellTypesArray()->GetPointer(0);
+  const auto checkCells = [&](const auto* offsets, const auto* connectivity) -> std::string {
+    vtkIdType totalIds = 0;
+    for (vtkIdType c = 0; c < numCells; ++c)
     {
-      return "cell " + std::to_string(c) + " of " + gridName + " has the type " +
-        std::to_string(type) + ", which is no VTK cell type; the file is corrupt.";
-    }
-    if (expected >= 0 && npts != expected)
-    {
-      return "cell " + std::to_string(c) + " of " + gridName + " is a " + CellTypeName(type) +
-        " with " + std::to_string(npts) + " points instead of " + std::to_string(expected) +
-        "; the file is corrupt.";
-    }
-    totalIds += npts;
-    if (totalIds > MaxCoreIndex)
-    {
-      return gridName + " is too large (more than " + std::to_string(MaxCoreIndex) +
-        " point ids in its cells).";
-    }
-    for (vtkIdType k = 0; k < npts; ++k)
-    {
-      if (pts[k] < 0 || pts[k] >= numPoints)
+      const int type = types[c];
+      const vtkIdType npts = static_cast<vtkIdType>(offsets[c + 1] - offsets[c]);
+      const auto* pts = connectivity + offsets[c];
+      const int expected = PointsOfCellType(type);
+      if (expected == UnknownCellType)
       {
-        return "cell " + std::to_string(c) + " of " + gridName + " refers to point " +
-          std::to_string(pts[k]) + ", but there are " + std::to_string(numPoints) +
-          " points; the file is corrupt.";
+        return "cell " + std::to_string(c) + " of " + gridName + " has the type " +
+          std::to_string(type) + ", which is no VTK cell type; the file is corrupt.";
+      }
+      if (expected >= 0 && npts != expected)
+      {
+        return "cell " + std::to_string(c) + " of " + gridName + " is a " + CellTypeName(type) +
+          " with " + std::to_string(npts) + " points instead of " + std::to_string(expected) +
+          "; the file is corrupt.";
+      }
+      totalIds += npts;
+      if (totalIds > MaxCoreIndex)
+      {
+        return gridName + " is too large (more than " + std::to_string(MaxCoreIndex) +
+          " point ids in its cells).";
+      }
+      for (vtkIdType k = 0; k < npts; ++k)
+      {
+        if (pts[k] < 0 || pts[k] >= numPoints)
+        {
+          return "cell " + std::to_string(c) + " of " + gridName + " refers to point " +
+            std::to_string(static_cast<vtkIdType>(pts[k])) + ", but there are " +
+            std::to_string(numPoints) + " points; the file is corrupt.";
+        }
       }
     }
-  }
-  return std::string();
+    return std::string();
+  };
+  vtkCellArray* cellArray = grid->GetCells();
+  return cellArray->IsStorage64Bit()
+    ? checkCells(cellArray->GetOffsetsArray64()->GetPointer(0),
+        cellArray->GetConnectivityArray64()->GetPointer(0))
+    : checkCells(cellArray->GetOffsetsArray32()->GetPointer(0),
+        cellArray->GetConnectivityArray32()->GetPointer(0));
 }
 
 //------------------------------------------------------------------------------
 std::vector<femorph::Vec3> vtkFEMorphMeshConversion::ReadPoints(vtkUnstructuredGrid* grid)
 {
   const vtkIdType numPoints = grid->GetNumberOfPoints();
-  std::vector<femorph::Vec3> points(static_cast<std::size_t>(numPoints));
+  std::vector<femorph::Vec3> points;
+  points.reserve(static_cast<std::size_t>(numPoints));
+  femorph::advise_huge_pages(points.data(), static_cast<std::size_t>(numPoints) * sizeof(femorph::Vec3));
+  points.resize(static_cast<std::size_t>(numPoints));
+  // Double coordinates in one block (the common case) are copied as they are.
+  vtkDoubleArray* doubles =
+    numPoints > 0 ? vtkDoubleArray::FastDownCast(grid->GetPoints()->GetData()) : nullptr;
+  if (doubles && doubles->GetNumberOfComponents() == 3)
+  {
+    const double* xyz = doubles->GetPointer(0);
+    femorph::parallel_for(static_cast<long>(numPoints), [&](long i) {
+      points[static_cast<std::size_t>(i)] = femorph::Vec3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    });
+    return points;
+  }
   for (vtkIdType i = 0; i < numPoints; ++i)
   {
     grid->GetPoint(i, points[static_cast<std::size_t>(i)].data());
@@ -406,17 +438,28 @@ femorph::Status vtkFEMorphMeshConversion::ReadTetGrid(
   }
   points = ReadPoints(grid);
   const vtkIdType numCells = grid->GetNumberOfCells();
+  tets.reserve(static_cast<std::size_t>(numCells));
+  femorph::advise_huge_pages(tets.data(), static_cast<std::size_t>(numCells) * sizeof(femorph::Tet));
   tets.resize(static_cast<std::size_t>(numCells));
-  // The cell array's own storage: no id list per cell.
-  vtkIdType npts = 0;
-  const vtkIdType* pts = nullptr;
-  for (vtkIdType c = 0; c < numCells; ++c)
+  // The cell array's own storage (offsets and connectivity, 32 or 64 bit):
+  // no call per cell.
+  vtkCellArray* cells = grid->GetCells();
+  const auto copy = [&tets, numCells](const auto* offsets, const auto* connectivity) {
+    femorph::parallel_for(static_cast<long>(numCells), [&](long c) {
+      const auto* pts = connectivity + offsets[c];
+      for (int k = 0; k < 4; ++k)
+      {
+        tets[static_cast<std::size_t>(c)][k] = static_cast<femorph::index_t>(pts[k]);
+      }
+    });
+  };
+  if (cells->IsStorage64Bit())
   {
-    grid->GetCellPoints(c, npts, pts);
-    for (int k = 0; k < 4; ++k)
-    {
-      tets[static_cast<std::size_t>(c)][k] = static_cast<femorph::index_t>(pts[k]);
-    }
+    copy(cells->GetOffsetsArray64()->GetPointer(0), cells->GetConnectivityArray64()->GetPointer(0));
+  }
+  else
+  {
+    copy(cells->GetOffsetsArray32()->GetPointer(0), cells->GetConnectivityArray32()->GetPointer(0));
   }
   return femorph::Status::success();
 }

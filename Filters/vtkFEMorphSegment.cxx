@@ -1,5 +1,6 @@
 #include "vtkFEMorphSegment.h"
 
+#include "vtkFEMorphHeapReuse.h"
 #include "vtkFEMorphSegmentationArrays.h"
 
 #include "vtkInformation.h"
@@ -13,6 +14,7 @@
 #include "segment/segmentation.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 vtkStandardNewMacro(vtkFEMorphSegment);
@@ -117,6 +119,11 @@ bool vtkFEMorphSegment::Execute(
   params.refine_fits = this->RefineFits != 0;
   params.adaptive_tolerance = this->AdaptiveTolerance != 0;
 
+  // Freed memory is reused during the run (vtkFEMorphHeapReuse.h) up to the
+  // outputs, whose arrays outlive the filter.
+  std::optional<vtkFEMorphHeapReuse> heapReuse;
+  heapReuse.emplace();
+
   // The tet mesh: tets only, consistently oriented, manifold boundary.
   // Zero-volume tets are accepted: only the boundary is segmented.
   this->Progress(0.0, "converting the mesh");
@@ -155,6 +162,7 @@ bool vtkFEMorphSegment::Execute(
   }
   this->WarnAll(segmentation.warnings);
 
+  heapReuse.reset();
   this->Progress(0.9, "writing the outputs");
   meshOut->ShallowCopy(input);
   femorph::Status written =

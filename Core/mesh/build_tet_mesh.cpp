@@ -2,6 +2,7 @@
 // adjacency codes, the manifold checks and the vertex classes (thesis
 // Fig. 2.37) of a mesh given as points and tets.
 #include "mesh/tet_mesh.h"
+#include "common/huge_pages.h"
 #include "common/parallel.h"
 
 #include "geometry/predicates.h"
@@ -10,6 +11,7 @@
 #include <utility>
 #include <functional>
 #include <array>
+#include <cstdint>
 #include <algorithm>
 #include <limits>
 #include <memory>
@@ -21,17 +23,13 @@ namespace femorph {
 
 namespace {
 
-/// Sorted face key and where it came from, for matching faces by sorting.
+/// A face within its bucket (the bucket is its smallest vertex): the other
+/// two vertices, ascending, as one key, and where it came from.
 struct FaceRecord {
-  index_t v[3];   // sorted vertex ids
-  index_t code;   // 4 * t + f
-  bool odd;       // the tet's face order is an odd permutation of v
-  bool operator<(const FaceRecord& o) const {
-    if (v[0] != o.v[0]) return v[0] < o.v[0];
-    if (v[1] != o.v[1]) return v[1] < o.v[1];
-    return v[2] < o.v[2];
-  }
-  bool same_face(const FaceRecord& o) const { return v[0] == o.v[0] && v[1] == o.v[1] && v[2] == o.v[2]; }
+  std::uint64_t key;  // second << 32 | third vertex id
+  index_t code;       // 4 * t + f
+  bool odd;           // the tet's face order is an odd permutation of the sorted ids
+  bool same_face(const FaceRecord& o) const { return key == o.key; }
 };
 
 std::string plural(std::size_t n, const char* one, const char* many) {
@@ -136,10 +134,13 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
   // are matched independently. The records are written straight into their
   // buckets from several threads (no array of records is zeroed first); the
   // sort by key and then code makes the order unique.
-  const auto face_record = [&tets](std::size_t t, int f) {
+  const auto face_record = [&tets](std::size_t t, int f, index_t* bucket) {
+    index_t v[3];
+    for (int k = 0; k < 3; ++k) v[k] = tets[t][kTetFace[f][k]];
     FaceRecord r;
-    for (int k = 0; k < 3; ++k) r.v[k] = tets[t][kTetFace[f][k]];
-    r.odd = internal::sort3_parity(r.v);
+    r.odd = internal::sort3_parity(v);
+    *bucket = v[0];
+    r.key = static_cast<std::uint64_t>(static_cast<std::uint32_t>(v[1])) << 32 | static_cast<std::uint32_t>(v[2]);
     r.code = static_cast<index_t>(4 * t + f);
     return r;
   };
@@ -149,7 +150,7 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
   // atomics. A few more parts than threads, so that a thread on a busy core
   // takes fewer of them (each part holds a count per vertex).
   std::vector<index_t> start(static_cast<std::size_t>(nv) + 1, 0);
-  const std::unique_ptr<FaceRecord[]> faces(new FaceRecord[4 * nt]);
+  const auto faces = huge_page_array<FaceRecord>(4 * nt);
   {
     const int threads = ntets >= kParallelMinItems ? parallel_threads() : 1;
     const long parts = threads > 1 ? threads + 2L : 1;
@@ -187,19 +188,22 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
           std::vector<index_t>& mine = fill[static_cast<std::size_t>(begin / part)];
           for (long i = begin; i < end; ++i)
             for (int f = 0; f < 4; ++f) {
-              const FaceRecord r = face_record(static_cast<std::size_t>(i), f);
-              faces[static_cast<std::size_t>(mine[static_cast<std::size_t>(r.v[0])]++)] = r;
+              index_t bucket;
+              const FaceRecord r = face_record(static_cast<std::size_t>(i), f, &bucket);
+              faces[static_cast<std::size_t>(mine[static_cast<std::size_t>(bucket)]++)] = r;
             }
         },
         kParallelMinItems, part);
   }
   const auto by_key_then_code = [](const FaceRecord& x, const FaceRecord& y) {
-    return x < y || (x.same_face(y) && x.code < y.code);
+    return x.key < y.key || (x.key == y.key && x.code < y.code);
   };
   parallel_for(
       nv, [&](long v) { std::sort(&faces[start[v]], &faces[start[v + 1]], by_key_then_code); }, kParallelMinItems,
       4096);
 
+  rec_.reserve(nt);
+  advise_huge_pages(rec_.data(), nt * sizeof(TetRecord));
   rec_.resize(nt);
   parallel_for(ntets, [&](long t) {
     rec_[static_cast<std::size_t>(t)] = TetRecord{tets[static_cast<std::size_t>(t)], Tet{{-1, -1, -1, -1}}};
@@ -289,16 +293,24 @@ Status TetMesh::build(std::vector<Vec3> points, std::vector<Tet> tets, const Bui
   // Manifold vertex neighbourhoods: the ball walk must reach every incident
   // tet (otherwise local operations would see only part of the vertex).
   // The same ball classifies the vertex (used only when the build succeeds).
+  // The vertices are walked in the order of their start tets, so that
+  // consecutive balls share tets still in cache (the result is per vertex,
+  // whatever the order).
+  std::vector<index_t> walk_order;
+  walk_order.reserve(static_cast<std::size_t>(nv));
+  for (std::size_t t = 0; t < nt; ++t)
+    for (index_t v : rec_[t].v)
+      if (vertex_tet_[v] == static_cast<index_t>(t)) walk_order.push_back(v);
   using Bad = std::pair<std::size_t, index_t>;  // count, first
   std::vector<WalkMarks> marks(static_cast<std::size_t>(parallel_threads()));
   std::vector<std::vector<index_t>> balls(marks.size());
   const Bad bad = parallel_reduce(
-      nv, Bad(0, std::numeric_limits<index_t>::max()),
+      static_cast<long>(walk_order.size()), Bad(0, std::numeric_limits<index_t>::max()),
       [&](long begin, long end, int worker) {
         Bad k(0, std::numeric_limits<index_t>::max());
         std::vector<index_t>& ball = balls[static_cast<std::size_t>(worker)];
-        for (index_t v = static_cast<index_t>(begin); v < static_cast<index_t>(end); ++v) {
-          if (vertex_tet_[v] < 0) continue;
+        for (long i = begin; i < end; ++i) {
+          const index_t v = walk_order[static_cast<std::size_t>(i)];
           vertex_ball(v, ball, marks[static_cast<std::size_t>(worker)]);
           if (static_cast<index_t>(ball.size()) != incidence[v]) {
             ++k.first;

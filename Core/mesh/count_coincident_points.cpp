@@ -2,11 +2,13 @@
 // tolerance's size), the points sorted by cell, and every point compared with
 // the points of its own and the 26 neighbouring cells only.
 #include "mesh/count_coincident_points.h"
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 
 namespace femorph {
 
@@ -39,24 +41,31 @@ std::size_t count_coincident_points(const std::vector<Vec3>& points, double tole
   for (std::size_t i = 0; i < n; ++i) order[i] = {key_of(points[i]), static_cast<index_t>(i)};
   std::sort(order.begin(), order.end());
 
+  // The cells (x, y, z - 1 .. z + 1) of one column are consecutive in the
+  // sorted order: one search per column, nine per point.
   const double tolerance2 = tolerance * tolerance;
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Key& k = order[i].first;
-    const Vec3& p = points[static_cast<std::size_t>(order[i].second)];
-    bool found = false;
-    for (int dx = -1; dx <= 1 && !found; ++dx)
-      for (int dy = -1; dy <= 1 && !found; ++dy)
-        for (int dz = -1; dz <= 1 && !found; ++dz) {
-          const Key q{{k[0] + dx, k[1] + dy, k[2] + dz}};
-          auto it = std::lower_bound(order.begin(), order.end(), q,
-                                     [](const std::pair<Key, index_t>& e, const Key& key) { return e.first < key; });
-          for (; it != order.end() && it->first == q && !found; ++it)
-            found = it->second != order[i].second &&
-                    (points[static_cast<std::size_t>(it->second)] - p).squaredNorm() <= tolerance2;
+  const auto key_less = [](const std::pair<Key, index_t>& e, const Key& key) { return e.first < key; };
+  const std::size_t count = parallel_reduce(
+      static_cast<long>(n), std::size_t(0),
+      [&](long begin, long end, int) {
+        std::size_t k_count = 0;
+        for (std::size_t i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+          const Key& k = order[i].first;
+          const Vec3& p = points[static_cast<std::size_t>(order[i].second)];
+          bool found = false;
+          for (int dx = -1; dx <= 1 && !found; ++dx)
+            for (int dy = -1; dy <= 1 && !found; ++dy) {
+              const Key lo{{k[0] + dx, k[1] + dy, k[2] - 1}}, hi{{k[0] + dx, k[1] + dy, k[2] + 1}};
+              auto it = std::lower_bound(order.begin(), order.end(), lo, key_less);
+              for (; it != order.end() && !(hi < it->first) && !found; ++it)
+                found = it->second != order[i].second &&
+                        (points[static_cast<std::size_t>(it->second)] - p).squaredNorm() <= tolerance2;
+            }
+          k_count += found;
         }
-    count += found;
-  }
+        return k_count;
+      },
+      std::plus<std::size_t>());
   return count;
 }
 

@@ -33,69 +33,93 @@ index_t boundary_face_across_edge(const TetMesh& mesh, index_t t, int f, index_t
 }
 
 void boundary_manifold_counts(const TetMesh& mesh, std::size_t* bad_edges, std::size_t* bad_fans) {
-  // Boundary faces, then their half-edges keyed by (min, max) vertex.
+  // Boundary faces, then their half-edges in buckets by their smaller
+  // vertex (a counting sort: linear, where one sort of all half-edges is
+  // not); the corners of each vertex in buckets the same way.
   std::vector<index_t> faces;
   for (index_t t = 0; t < mesh.tet_slots(); ++t) {
     if (!mesh.tet_alive(t)) continue;
     for (int f = 0; f < 4; ++f)
       if (mesh.is_boundary_face(t, f)) faces.push_back(4 * t + f);
   }
+  const std::size_t nv = static_cast<std::size_t>(mesh.vertex_slots());
+  const std::size_t ncorners = 3 * faces.size();
+  std::vector<index_t> corner_vertex(ncorners);
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const index_t code = faces[i];
+    const Tet& T = mesh.tet(code >> 2);
+    for (int k = 0; k < 3; ++k) corner_vertex[3 * i + static_cast<std::size_t>(k)] = T[kTetFace[code & 3][k]];
+  }
   struct HalfEdge {
-    std::uint64_t key;
-    index_t corner_a, corner_b;  // corners (3 * face + k) at the key's two vertices
+    index_t other;               // the larger vertex (the bucket is the smaller)
+    index_t corner_a, corner_b;  // corners (3 * face + k) at the smaller and the larger vertex
   };
-  std::vector<HalfEdge> edges;
-  edges.reserve(3 * faces.size());
-  auto vertex_of = [&](std::size_t face, int k) {
-    const index_t code = faces[face];
-    return mesh.tet(code >> 2)[kTetFace[code & 3][k]];
-  };
-  for (std::size_t i = 0; i < faces.size(); ++i)
-    for (int k = 0; k < 3; ++k) {
-      const int l = (k + 1) % 3;
-      index_t a = vertex_of(i, k), b = vertex_of(i, l);
-      index_t ca = static_cast<index_t>(3 * i + k), cb = static_cast<index_t>(3 * i + l);
+  std::vector<index_t> edge_start(nv + 1, 0), corner_start(nv + 1, 0);
+  for (std::size_t c = 0; c < ncorners; ++c) {
+    const std::size_t l = c - c % 3 + (c % 3 + 1) % 3;  // the corner after c in its face
+    ++edge_start[static_cast<std::size_t>(std::min(corner_vertex[c], corner_vertex[l])) + 1];
+    ++corner_start[static_cast<std::size_t>(corner_vertex[c]) + 1];
+  }
+  for (std::size_t v = 0; v < nv; ++v) {
+    edge_start[v + 1] += edge_start[v];
+    corner_start[v + 1] += corner_start[v];
+  }
+  std::vector<HalfEdge> edges(ncorners);
+  std::vector<index_t> corners(ncorners);
+  {
+    std::vector<index_t> edge_fill(edge_start.begin(), edge_start.end() - 1);
+    std::vector<index_t> corner_fill(corner_start.begin(), corner_start.end() - 1);
+    for (std::size_t c = 0; c < ncorners; ++c) {
+      const std::size_t l = c - c % 3 + (c % 3 + 1) % 3;
+      index_t a = corner_vertex[c], b = corner_vertex[l];
+      index_t ca = static_cast<index_t>(c), cb = static_cast<index_t>(l);
       if (a > b) {
         std::swap(a, b);
         std::swap(ca, cb);
       }
-      edges.push_back({(static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b), ca, cb});
+      edges[static_cast<std::size_t>(edge_fill[static_cast<std::size_t>(a)]++)] = {b, ca, cb};
+      corners[static_cast<std::size_t>(corner_fill[static_cast<std::size_t>(corner_vertex[c])]++)] =
+          static_cast<index_t>(c);
     }
-  std::sort(edges.begin(), edges.end(), [](const HalfEdge& x, const HalfEdge& y) { return x.key < y.key; });
+  }
 
-  std::vector<index_t> parent(3 * faces.size());
+  std::vector<index_t> parent(ncorners);
   std::iota(parent.begin(), parent.end(), 0);
   auto find = [&](index_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
   std::size_t nbad = 0;
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i + 1;
-    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
-    if (j - i != 2) {
-      ++nbad;
-    } else {
-      // The two faces meet along this edge: their corners at each endpoint
-      // belong to the same fan.
-      parent[find(edges[i].corner_a)] = find(edges[i + 1].corner_a);
-      parent[find(edges[i].corner_b)] = find(edges[i + 1].corner_b);
+  for (std::size_t v = 0; v < nv; ++v) {
+    HalfEdge* first = edges.data() + edge_start[v];
+    HalfEdge* last = edges.data() + edge_start[v + 1];
+    std::sort(first, last, [](const HalfEdge& x, const HalfEdge& y) { return x.other < y.other; });
+    for (HalfEdge* i = first; i < last;) {
+      HalfEdge* j = i + 1;
+      while (j < last && j->other == i->other) ++j;
+      if (j - i != 2) {
+        ++nbad;
+      } else {
+        // The two faces meet along this edge: their corners at each endpoint
+        // belong to the same fan.
+        parent[find(i[0].corner_a)] = find(i[1].corner_a);
+        parent[find(i[0].corner_b)] = find(i[1].corner_b);
+      }
+      i = j;
     }
-    i = j;
   }
   *bad_edges = nbad;
 
-  std::vector<std::pair<index_t, index_t>> vertex_fan;
-  vertex_fan.reserve(parent.size());
-  for (std::size_t i = 0; i < faces.size(); ++i)
-    for (int k = 0; k < 3; ++k) vertex_fan.emplace_back(vertex_of(i, k), find(static_cast<index_t>(3 * i + k)));
-  std::sort(vertex_fan.begin(), vertex_fan.end());
-  vertex_fan.erase(std::unique(vertex_fan.begin(), vertex_fan.end()), vertex_fan.end());
+  // A vertex whose corners lie in more than one fan.
   std::size_t nfans = 0;
-  for (std::size_t i = 1; i < vertex_fan.size(); ++i)
-    if (vertex_fan[i].first == vertex_fan[i - 1].first &&
-        (i < 2 || vertex_fan[i - 2].first != vertex_fan[i].first))
-      ++nfans;  // count each vertex once
+  for (std::size_t v = 0; v < nv; ++v) {
+    const std::size_t begin = static_cast<std::size_t>(corner_start[v]), end = static_cast<std::size_t>(corner_start[v + 1]);
+    if (begin == end) continue;
+    const index_t root = find(corners[begin]);
+    bool several = false;
+    for (std::size_t i = begin + 1; i < end && !several; ++i) several = find(corners[i]) != root;
+    nfans += several;
+  }
   *bad_fans = nfans;
 }
 

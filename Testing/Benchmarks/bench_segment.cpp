@@ -6,7 +6,7 @@
 // same boundary points and normals, with its time and the primitives it finds
 // against the truth.
 //
-//   build/bin/bench_segment [--repeats=5] [--fine-dir=DIR] [--no-fine] [--no-cgal]
+//   build/bin/bench_segment [--repeats=5] [--fine-dir=DIR] [--no-fine] [--no-cgal] [--only=PART]
 //
 // The fine part is made by Data/generate_parts.py (Gmsh) into --fine-dir
 // (default: build/bench-data) the first time and reused afterwards.
@@ -257,13 +257,15 @@ int main(int argc, char** argv) {
   int repeats = 5;
   bool fine = true, cgal = true;
   std::string fine_dir = std::string(FEMORPH_BINARY_DIR) + "/bench-data";
+  std::string only;  // one part by name (e.g. boss_block_fine), for profiling
   for (int i = 1; i < argc; ++i) {
     if (std::strncmp(argv[i], "--repeats=", 10) == 0) repeats = std::max(1, std::atoi(argv[i] + 10));
     else if (std::strncmp(argv[i], "--fine-dir=", 11) == 0) fine_dir = argv[i] + 11;
     else if (std::strcmp(argv[i], "--no-fine") == 0) fine = false;
     else if (std::strcmp(argv[i], "--no-cgal") == 0) cgal = false;
+    else if (std::strncmp(argv[i], "--only=", 7) == 0) only = argv[i] + 7;
     else {
-      std::fprintf(stderr, "usage: %s [--repeats=N] [--fine-dir=DIR] [--no-fine] [--no-cgal]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--repeats=N] [--fine-dir=DIR] [--no-fine] [--no-cgal] [--only=PART]\n", argv[0]);
       return 2;
     }
   }
@@ -274,7 +276,7 @@ int main(int argc, char** argv) {
       parts.emplace_back(p.stem().string(), p.string());
   }
   std::sort(parts.begin(), parts.end());
-  if (fine) {
+  if (fine && (only.empty() || only == "boss_block_fine")) {
     const std::string vtu = fine_dir + "/boss_block_fine.vtu";
     if (!std::filesystem::exists(vtu)) {
       std::printf("making the fine part with Gmsh into %s ...\n", fine_dir.c_str());
@@ -289,6 +291,8 @@ int main(int argc, char** argv) {
     if (std::filesystem::exists(vtu)) parts.emplace_back("boss_block_fine", vtu);
   }
 
+  if (!only.empty())
+    parts.erase(std::remove_if(parts.begin(), parts.end(), [&](const auto& p) { return p.first != only; }), parts.end());
   std::printf("FEMorph Segment benchmark: %d threads, medians of %d runs (CGAL: of up to 3)\n", femorph::parallel_threads(),
               repeats);
   std::vector<Row> rows;
