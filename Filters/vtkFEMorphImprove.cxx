@@ -392,7 +392,7 @@ bool vtkFEMorphImprove::Execute(
   po.trace_quality = this->TraceQuality != 0;
   po.poor_elements_only = this->PoorElementsOnly != 0;
   // Without a Reference the density target is the input's own: a mesh at
-  // its own density must not come out with a lower minimum (issue 29).
+  // its own density must not come out with a lower minimum.
   po.keep_input_minimum = !useReference;
   po.progress = this->ProgressRange(0.05, 0.95);
   const double preparationSeconds = SecondsSince(start) - segmentationSeconds;

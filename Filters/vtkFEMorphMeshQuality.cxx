@@ -183,7 +183,7 @@ bool vtkFEMorphMeshQuality::Execute(
   inverted->Fill(0);
   // FEMorph's one definition of a valid cell (Core/quality/is_valid_cell.h),
   // the one Hex To Tet's inverted tets follow: stricter than the scaled
-  // Jacobian's corners (issue 29: a hexahedron with its top face turned by
+  // Jacobian's corners (a hexahedron with its top face turned by
   // 90 degrees has ScaledJacobian 0.707 and is Invalid).
   vtkNew<vtkUnsignedCharArray> invalid;
   invalid->SetName("Invalid");

@@ -49,7 +49,7 @@ struct RigidPose {
 /// The motion of the moving object: the pose of step n, from step 0 (the
 /// input, identity).
 struct RigidMotion {
-  /// x_n = c + n t + R(axis, n angle) (x_0 - c) (issue 27's motion model).
+  /// x_n = c + n t + R(axis, n angle) (x_0 - c).
   Vec3 translation_per_step = Vec3::Zero();
   Vec3 rotation_axis = Vec3::UnitX();
   Vec3 rotation_center = Vec3::Zero();

@@ -1,4 +1,4 @@
-// Penetration check of a motion step (issue 27's bad input: a motion that
+// Penetration check of a motion step (bad input: a motion that
 // makes objects penetrate is refused, naming the step). Beyond the thesis,
 // which assumes a valid motion: each surface vertex of the moving object
 // walks through the current mesh to its new position; it may cross space

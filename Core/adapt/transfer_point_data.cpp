@@ -1,4 +1,4 @@
-// Field transfer between steps (issue 27, beyond the thesis): the point data
+// Field transfer between steps (beyond the thesis): the point data
 // of step n at a space vertex is the data of step n - 1 interpolated at the
 // vertex's new position (linear in the tet of the old mesh that holds it),
 // so a solver continuing on the new mesh sees the same field in space. The

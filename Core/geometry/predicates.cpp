@@ -44,7 +44,7 @@ int orient3d_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   if (det != 0 && std::isfinite(det)) return -sign(det);
   // Shewchuk's arithmetic is exact only without underflow and overflow: with
   // coordinates near 1e-300 the products of three differences underflow to
-  // 0, near 1e300 they overflow (issue 29: every tet flat at either scale).
+  // 0, near 1e300 they overflow (every tet flat at either scale).
   // Zero and non-finite results are therefore redone on the points scaled by
   // a power of two that brings the largest coordinate into [0.5, 1): exact,
   // so the sign is the points' own. Off the hot path: only coplanar points

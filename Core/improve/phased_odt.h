@@ -93,7 +93,7 @@ struct PhasedOdtOptions {
   /// thresholds and every curved region within its acceptable error. Off:
   /// always run the phases.
   bool skip_if_good = true;
-  /// Beyond the thesis (issue 29): the result's minimum stretch may never
+  /// Beyond the thesis: the result's minimum stretch may never
   /// fall below min(the input's minimum, quality_floor). A run that ends
   /// below it gives the input back unchanged (PhasedOdtStats::kept_input);
   /// the phases work on the mesh, a copy of the input is kept for this

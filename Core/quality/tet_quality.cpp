@@ -27,7 +27,7 @@ inline double cross_norm(const Vec3& u, const Vec3& v) {
 // Scale-free measures: every measure here is a ratio of products of up to
 // four edge lengths (det / (L_max * S), normals' cross products), so with
 // edges near 1e-300 the products underflow to 0 and near 1e300 they overflow
-// (every tet came out flat at either scale, issue 29). A cell whose longest
+// (every tet came out flat at either scale). A cell whose longest
 // edge lies outside [2^-200, 2^200] is first scaled by a power of two, which
 // is exact and leaves every ratio as it is; cells inside the range (all
 // ordinary meshes) are computed exactly as before.

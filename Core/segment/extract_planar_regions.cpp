@@ -14,7 +14,7 @@ namespace {
 /// The mesh's precision, measured on its planar seeds (the median vertex
 /// distance to their fitted planes, median over seeds weighted by size),
 /// and the tolerance tightened to it when adaptive_tolerance is on. Also the
-/// precision of the boundary curves (issue 28): a CAD mesh's nodes inside a
+/// precision of the boundary curves: a CAD mesh's nodes inside a
 /// face lie on it exactly, those on its edge curves only as well as the
 /// file's curves approximate the face intersections. The curve tolerance is
 /// six times the 0.9-quantile of the seeds' border vertex distances to their

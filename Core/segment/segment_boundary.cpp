@@ -27,7 +27,7 @@ Status segment_boundary(const TetMesh& mesh, const SegmentationParams& params, S
     out.warnings.clear();
     return Status::failure("the segmentation failed: " + segmented.message);
   }
-  // Beyond the thesis (issue 29): an unmerged seam (duplicate nodes between
+  // Beyond the thesis: an unmerged seam (duplicate nodes between
   // two parts of one body) is a closed boundary inside the part; the
   // segmentation then splits every face it crosses into many regions,
   // silently. Boundary points within a millionth of the mean edge of
