@@ -375,6 +375,18 @@ TEST(AdaptContact, CylinderTurnsInsideHalfTube) {
 
 // A block lowered onto a plate, then slid along it: planar contact (the
 // plane's chart), the block's bottom face shared with the plate.
+/// The block's motion: down 0.25 per step for 4 steps (onto the plate 1
+/// below it), then 0.25 per step along +x.
+RigidMotion land_and_slide(int steps) {
+  RigidMotion motion;
+  for (int n = 1; n <= steps; ++n) {
+    RigidPose p;
+    p.t = n <= 4 ? Vec3(0, 0, -0.25 * n) : Vec3(0.25 * (n - 4), 0, -1);
+    motion.table.push_back(p);
+  }
+  return motion;
+}
+
 /// The block's (material 1) vertices, mapped back by the inverse of its pose,
 /// lie in its initial box [3, 5] x [4, 6] x [4, 6].
 void expect_block_in_its_box(const AdaptOutput& out, const RigidPose& pose, int n) {
@@ -396,12 +408,7 @@ TEST(AdaptContact, BlockLandsOnPlateAndSlides) {
     for (const index_t v : mm.tets[t]) c += mm.points[v] / 4;
     if (c.x() > 1 && c.x() < 9 && c.y() > 2 && c.y() < 8 && c.z() > 2 && c.z() < 3) mm.material[t] = 2;
   }
-  RigidMotion motion;
-  for (int n = 1; n <= 10; ++n) {
-    RigidPose p;
-    p.t = n <= 4 ? Vec3(0, 0, -0.25 * n) : Vec3(0.25 * (n - 4), 0, -1);
-    motion.table.push_back(p);
-  }
+  const RigidMotion motion = land_and_slide(10);
   AdaptOptions options;
   options.moving_object = 1;
   AdaptSession session;
@@ -465,12 +472,7 @@ TEST(AdaptContact, BlockTouchesPlateAndWallAtOnce) {
     if (c.x() > 7 && c.x() < 8 && c.y() > 2 && c.y() < 8 && c.z() > 4 && c.z() < 7) mm.material[t] = 3;  // wall
   }
   const int steps = 12;
-  RigidMotion motion;
-  for (int n = 1; n <= steps; ++n) {
-    RigidPose p;
-    p.t = n <= 4 ? Vec3(0, 0, -0.25 * n) : Vec3(0.25 * (n - 4), 0, -1);
-    motion.table.push_back(p);
-  }
+  const RigidMotion motion = land_and_slide(steps);
   AdaptOptions options;
   options.moving_object = 1;
   AdaptSession session;
