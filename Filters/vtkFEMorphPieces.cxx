@@ -50,6 +50,37 @@ void RemoveDistributionArrays(vtkUnstructuredGrid* grid)
   }
 }
 
+// Appends cell `c` of `in` to `out` with its points renumbered by `map`
+// (a polyhedron's face stream too); `ids` and `faces` are scratch lists.
+vtkIdType InsertRenumberedCell(vtkUnstructuredGrid* in, vtkIdType c, const std::vector<vtkIdType>& map,
+  vtkIdList* ids, vtkIdList* faces, vtkUnstructuredGrid* out)
+{
+  in->GetCellPoints(c, ids);
+  for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+  {
+    ids->SetId(k, map[static_cast<std::size_t>(ids->GetId(k))]);
+  }
+  const int type = in->GetCellType(c);
+  if (type != VTK_POLYHEDRON)
+  {
+    return out->InsertNextCell(type, ids);
+  }
+  // Face stream: nfaces, then per face its point count and points.
+  in->GetFaceStream(c, faces);
+  const vtkIdType nfaces = faces->GetNumberOfIds() > 0 ? faces->GetId(0) : 0;
+  std::vector<vtkIdType> stream;
+  for (vtkIdType i = 1, f = 0; f < nfaces; ++f)
+  {
+    const vtkIdType n = faces->GetId(i++);
+    stream.push_back(n);
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      stream.push_back(map[static_cast<std::size_t>(faces->GetId(i++))]);
+    }
+  }
+  return out->InsertNextCell(type, ids->GetNumberOfIds(), ids->GetPointer(0), nfaces, stream.data());
+}
+
 // A cell of a piece in the merged grid's order.
 struct CellRef
 {
@@ -120,35 +151,7 @@ vtkSmartPointer<vtkUnstructuredGrid> vtkFEMorphPieces::DropGhostCells(vtkUnstruc
     {
       continue;
     }
-    grid->GetCellPoints(c, ids);
-    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-    {
-      ids->SetId(k, pointMap[static_cast<std::size_t>(ids->GetId(k))]);
-    }
-    vtkIdType newId = -1;
-    const int type = grid->GetCellType(c);
-    if (type == VTK_POLYHEDRON)
-    {
-      // Face stream: nfaces, then per face its point count and points.
-      grid->GetFaceStream(c, faces);
-      const vtkIdType nfaces = faces->GetNumberOfIds() > 0 ? faces->GetId(0) : 0;
-      std::vector<vtkIdType> stream;
-      for (vtkIdType i = 1, f = 0; f < nfaces; ++f)
-      {
-        const vtkIdType n = faces->GetId(i++);
-        stream.push_back(n);
-        for (vtkIdType k = 0; k < n; ++k)
-        {
-          stream.push_back(pointMap[static_cast<std::size_t>(faces->GetId(i++))]);
-        }
-      }
-      newId = out->InsertNextCell(
-        type, ids->GetNumberOfIds(), ids->GetPointer(0), nfaces, stream.data());
-    }
-    else
-    {
-      newId = out->InsertNextCell(type, ids);
-    }
+    const vtkIdType newId = InsertRenumberedCell(grid, c, pointMap, ids, faces, out);
     outCD->CopyData(inCD, c, newId);
   }
   out->GetFieldData()->ShallowCopy(grid->GetFieldData());
@@ -334,34 +337,7 @@ vtkSmartPointer<vtkUnstructuredGrid> vtkFEMorphPieces::MergePieces(
   {
     vtkUnstructuredGrid* piece = pieces[ref.Piece];
     const std::vector<vtkIdType>& map = pointMap[ref.Piece];
-    piece->GetCellPoints(ref.Cell, ids);
-    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-    {
-      ids->SetId(k, map[static_cast<std::size_t>(ids->GetId(k))]);
-    }
-    const int type = piece->GetCellType(ref.Cell);
-    vtkIdType newId = -1;
-    if (type == VTK_POLYHEDRON)
-    {
-      piece->GetFaceStream(ref.Cell, faces);
-      const vtkIdType nfaces = faces->GetNumberOfIds() > 0 ? faces->GetId(0) : 0;
-      std::vector<vtkIdType> stream;
-      for (vtkIdType i = 1, f = 0; f < nfaces; ++f)
-      {
-        const vtkIdType n = faces->GetId(i++);
-        stream.push_back(n);
-        for (vtkIdType k = 0; k < n; ++k)
-        {
-          stream.push_back(map[static_cast<std::size_t>(faces->GetId(i++))]);
-        }
-      }
-      newId = out->InsertNextCell(
-        type, ids->GetNumberOfIds(), ids->GetPointer(0), nfaces, stream.data());
-    }
-    else
-    {
-      newId = out->InsertNextCell(type, ids);
-    }
+    const vtkIdType newId = InsertRenumberedCell(piece, ref.Cell, map, ids, faces, out);
     outCD->CopyData(cellFields, piece->GetCellData(), ref.Piece, ref.Cell, newId);
   }
   out->GetFieldData()->ShallowCopy(pieces[0]->GetFieldData());
