@@ -43,8 +43,8 @@
  * (Eq. 1.1) and `Inverted` (unsigned char, 1 for a tetrahedron with negative
  * volume that could not be repaired; only with RequireValid off). Field data,
  * one tuple each: `ImproveStretch` (min and mean, before and after),
- * `ImproveDensityError` (mean density error Eq. 2.35 before and after; NaN
- * without density control), `ImproveCounts` (splits, collapses, accuracy
+ * `ImproveDensityError` (mean density error Eq. 2.35 before and after, over
+ * the RegionArrayName cells when set; NaN without density control), `ImproveCounts` (splits, collapses, accuracy
  * splits, flips 2-3, 3-2, 4-4, surface flips, removed slivers, caps, spades,
  * repaired inverted tetrahedra, remaining inverted, moved vertices,
  * BelowFloor: tetrahedra left below QualityFloor, BelowFloorAllBoundary:

@@ -287,6 +287,9 @@ struct DeformReport {
   std::size_t moved_vertices = 0, deformable_tets = 0, inner_unknowns = 0, surface_unknowns = 0;
   std::size_t inverted_before_improve = 0;
   double min_stretch_before = 0, min_stretch_after = 0;
+  /// Seconds per stage; the valid range runs beside the first step's
+  /// parameterisation and repositioning, so the stages may add up to more
+  /// than the total.
   double seconds_classify = 0, seconds_range = 0, seconds_parameterize = 0, seconds_reposition = 0,
          seconds_improve = 0, seconds_total = 0;
   std::vector<SurfacePrimitive> surfaces;  ///< the regions' surfaces after

@@ -13,7 +13,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
+#include <memory>
 #include <sstream>
+#include <system_error>
 
 namespace femorph {
 
@@ -84,38 +87,74 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCu
   Status s = classify_surface_regions(mesh, regions, graph, options, plan);
   if (!s) return s;
   report.seconds_classify = seconds_since(start);
-  auto t = Clock::now();
-  find_valid_range(mesh, regions, plan);
-  report.seconds_range = seconds_since(t);
   report.current = plan.current;
-  report.valid_min = plan.valid_min;
-  report.valid_max = plan.valid_max;
   report.target = mo.target;
-  report.min_stretch_before = min_stretch(mesh);
   report.surfaces = regions.surfaces;
-  const double h = mean_edge_length(mesh);
-  if (std::isnan(mo.target)) {
-    // Measure only: the region a change would start from.
-    report.deformable = extract_deformable_region(mesh, plan, 3 * h);
-    report.min_stretch_after = report.min_stretch_before;
-    report.seconds_total = seconds_since(start);
-    return Status::success();
+  // The valid range (a search over trial values of the boundary alone) runs
+  // beside the first step's region, parameterisation and repositioning,
+  // which do not depend on it, on copies of the mesh and regions (a mesh's
+  // queries share scratch space). It is awaited before the mesh changes.
+  std::future<DeformPlan> range;
+  {
+    auto work = std::make_shared<std::pair<TetMesh, DeformRegions>>(mesh, regions);
+    auto search = [work, p = plan, &report]() mutable {
+      const auto t0 = Clock::now();
+      find_valid_range(work->first, work->second, p);
+      report.seconds_range = seconds_since(t0);
+      return p;
+    };
+    try {
+      range = std::async(std::launch::async, search);
+    } catch (const std::system_error&) {  // no thread to be had: when awaited
+      range = std::async(std::launch::deferred, search);
+    }
   }
   const double tol = 1e-9 * std::max(1.0, std::abs(plan.current));
-  if (mo.target < plan.valid_min - tol || mo.target > plan.valid_max + tol) {
-    t = Clock::now();
-    extend_valid_range(mesh, regions, plan, mo.target);
-    report.seconds_range += seconds_since(t);
+  // Awaits the valid range and checks the target against it (extended by
+  // marching when beyond one step's range).
+  const auto check_range = [&]() -> Status {
+    const DeformPlan ranged = range.get();
+    plan.valid_min = ranged.valid_min;
+    plan.valid_max = ranged.valid_max;
+    plan.limit_min = ranged.limit_min;
+    plan.limit_max = ranged.limit_max;
     report.valid_min = plan.valid_min;
     report.valid_max = plan.valid_max;
-  }
-  if (mo.target < plan.valid_min - tol || mo.target > plan.valid_max + tol) {
-    std::ostringstream os;
-    os << "TargetValue " << mo.target << " is outside the valid range " << range_text(plan) << " of this "
-       << to_string(options.type) << " (now " << plan.current
-       << "): beyond it a neighbouring face degenerates or the part intersects itself ("
-       << (mo.target > plan.valid_max ? plan.limit_max : plan.limit_min) << ").";
-    return Status::failure(os.str());
+    if (std::isnan(mo.target)) return Status::success();
+    if (mo.target < plan.valid_min - tol || mo.target > plan.valid_max + tol) {
+      const auto t = Clock::now();
+      extend_valid_range(mesh, regions, plan, mo.target);
+      report.seconds_range += seconds_since(t);
+      report.valid_min = plan.valid_min;
+      report.valid_max = plan.valid_max;
+    }
+    if (mo.target < plan.valid_min - tol || mo.target > plan.valid_max + tol) {
+      std::ostringstream os;
+      os << "TargetValue " << mo.target << " is outside the valid range " << range_text(plan) << " of this "
+         << to_string(options.type) << " (now " << plan.current
+         << "): beyond it a neighbouring face degenerates or the part intersects itself ("
+         << (mo.target > plan.valid_max ? plan.limit_max : plan.limit_min) << ").";
+      return Status::failure(os.str());
+    }
+    return Status::success();
+  };
+  // A failure before the range is known: the range's own message first
+  // (a target beyond it often fails there too).
+  const auto first_failure = [&](const Status& failure) -> Status {
+    if (range.valid()) {
+      const Status r = check_range();
+      if (!r) return r;
+    }
+    return failure;
+  };
+  report.min_stretch_before = min_stretch(mesh);
+  if (std::isnan(mo.target)) {
+    // Measure only: the region a change would start from.
+    report.deformable = extract_deformable_region(mesh, plan, 3 * mean_edge_length(mesh));
+    report.min_stretch_after = report.min_stretch_before;
+    check_range();
+    report.seconds_total = seconds_since(start);
+    return Status::success();
   }
 
   // The reference of the improvement: the mesh before the deformation.
@@ -137,6 +176,8 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCu
   double reference_edge = 0;
   const std::vector<double> reference_density =
       mo.improve ? vertex_density(reference.points, reference.tets, &reference_edge) : std::vector<double>();
+  // The mean edge length (the reference's: the mesh before the change).
+  const double h = mo.improve ? reference_edge : mean_edge_length(mesh);
 
   const double total = mo.target - plan.current;
   const double fraction = std::clamp(mo.max_step_fraction, 1.0 / mo.max_steps, 1.0);
@@ -162,20 +203,25 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCu
     first = false;
     const double next = std::abs(mo.target - value) <= std::abs(step) + tol ? mo.target : value + step;
     const SurfaceUpdate update = update_region_surfaces(plan, regions, next);
-    if (!update.error.empty()) return Status::failure("TargetValue " + std::to_string(next) + ": " + update.error + ".");
+    if (!update.error.empty())
+      return first_failure(Status::failure("TargetValue " + std::to_string(next) + ": " + update.error + "."));
     auto t0 = Clock::now();
     const double reach = std::max(3 * h, 1.5 * largest_move(mesh, plan, update));
     deformable.clear();
     if (options.local_region) deformable = extract_deformable_region(mesh, plan, reach);
     VertexParameterization param;
     s = parameterize_vertices(mesh, plan, deformable, param);
-    if (!s) return s;
+    if (!s) return first_failure(s);
     report.seconds_parameterize += seconds_since(t0);
     t0 = Clock::now();
     reposition_vertices(mesh, regions, param, update, points);
     report.seconds_reposition += seconds_since(t0);
     std::string where;
     const std::size_t inverted = count_inverted(mesh, points, deformable, &where);
+    if (range.valid()) {
+      s = check_range();
+      if (!s) return s;
+    }
     const int steps_taken = report.steps + 1;
     const double remaining_steps = std::abs(mo.target - value) / std::abs(step);
     if (inverted > 0 && mo.improve && steps_taken + 2 * remaining_steps <= mo.max_steps) {
@@ -292,6 +338,10 @@ Status deform_mesh(TetMesh& mesh, DeformRegions& regions, std::vector<BoundaryCu
     }
     value = next;
     ++report.steps;
+  }
+  if (range.valid()) {  // no step taken (aborted, or the target is the current value)
+    const Status r = check_range();
+    if (!r && !report.aborted) return r;
   }
   // The deformable region over all steps, per input tet.
   if (!options.local_region) std::fill(input_region.begin(), input_region.end(), 1);

@@ -50,6 +50,20 @@ std::size_t count_inverted(const TetMesh& mesh, std::vector<index_t>* ids = null
   return n;
 }
 
+/// The live tets the density error is measured on: those of the region
+/// (tet_mask, by origin) or all. Outside the region the density target is
+/// not kept, and a whole-mesh pass would cost more than a local run.
+std::vector<Tet> measured_tets(const TetMesh& mesh, const std::vector<std::uint8_t>& tet_mask) {
+  if (tet_mask.empty()) return live_tet_list(mesh);
+  std::vector<Tet> tets;
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    const index_t o = mesh.tet_origin(t);
+    if (o >= 0 && static_cast<std::size_t>(o) < tet_mask.size() && tet_mask[o]) tets.push_back(mesh.tet(t));
+  }
+  return tets;
+}
+
 /// Vertices that may change: all of whose tets are flagged (a tet inherits
 /// the flag of the input tet it comes from), and not on the boundary when it
 /// is fixed, and not frozen. Empty: every vertex.
@@ -285,7 +299,8 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
   stats.inverted_before = count_inverted(mesh);
   const bool density = options.density_control && target.density && !target.density->empty();
   if (target.density && !target.density->empty())
-    stats.density_error_before = mean_density_error(mesh, *target.density, DensityLookup::Cell);
+    stats.density_error_before =
+        mean_density_error(mesh.points(), measured_tets(mesh, options.tet_mask), *target.density, DensityLookup::Cell);
 
   // New and moved boundary vertices go onto their fitted surface or curve
   // (2.6.1.3); corners and vertices of unknown regions keep the position given.
@@ -550,7 +565,8 @@ PhasedOdtStats phased_odt(TetMesh& mesh, const BoundaryGeometry& given_geometry,
   stats.below_floor = count_below(mesh, options.quality_floor, &stats.below_floor_on_boundary);
   count_inverted(mesh, &stats.remaining_inverted);
   if (target.density && !target.density->empty())
-    stats.density_error_after = mean_density_error(mesh, *target.density, DensityLookup::Cell);
+    stats.density_error_after =
+        mean_density_error(mesh.points(), measured_tets(mesh, options.tet_mask), *target.density, DensityLookup::Cell);
   stats.geometric_error_after = region_geometric_error(mesh, geometry);
   stats.seconds = seconds_since(start) - trace_seconds;
   return stats;

@@ -144,7 +144,8 @@ struct PhasedOdtStats {
   double min_stretch_after = 0, mean_stretch_after = 0;
   std::size_t tets_before = 0, tets_after = 0;
   std::size_t inverted_before = 0;
-  DensityError density_error_before, density_error_after;  ///< when a density target is given
+  /// When a density target is given; over the tets of tet_mask when set.
+  DensityError density_error_before, density_error_after;
   /// Largest geometric error (2.6.4) per region id after; NaN for regions
   /// without a curved fit.
   std::vector<double> geometric_error_after;
