@@ -93,6 +93,7 @@ class FlipEvaluator {
     out.clear();
     known_.clear();
     const Tet T = mesh_.tet(t);
+    if (!allowed(T)) return;  // every flip of t replaces t
     // Flip 2-3 of each interior face: (a, b, c) | d, e -> three tets on (d, e).
     for (int f = 0; f < 4; ++f) {
       const index_t code = mesh_.adjacency(t, f);
@@ -197,7 +198,7 @@ FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions&
   std::vector<std::uint8_t> queued(mesh.tet_slots(), 0);
   auto push = [&](index_t t) {
     if (static_cast<std::size_t>(t) >= queued.size()) queued.resize(static_cast<std::size_t>(t) + 1, 0);
-    if (queued[t] || eval.stretch(t) >= options.quality_threshold) return;
+    if (queued[t] || !eval.allowed(mesh.tet(t)) || eval.stretch(t) >= options.quality_threshold) return;
     queued[t] = 1;
     queue.push_back(t);
   };
@@ -209,9 +210,12 @@ FlipImproveReport improve_tets_by_flips(TetMesh& mesh, const FlipImproveOptions&
   {
     const long slots = mesh.tet_slots();
     std::vector<std::uint8_t> poor(static_cast<std::size_t>(slots), 0);
+    // A tet without a vertex of the mask has no flip (the rest of the mesh
+    // of a local run): not queued.
     parallel_for(slots, [&](long t) {
-      poor[static_cast<std::size_t>(t)] =
-          mesh.tet_alive(static_cast<index_t>(t)) && !(eval.stretch(static_cast<index_t>(t)) >= options.quality_threshold);
+      const index_t k = static_cast<index_t>(t);
+      poor[static_cast<std::size_t>(t)] = mesh.tet_alive(k) && eval.allowed(mesh.tet(k)) &&
+                                          !(eval.stretch(k) >= options.quality_threshold);
     });
     for (index_t s = 0; s < kStride; ++s)
       for (index_t t = s; t < slots; t += kStride)

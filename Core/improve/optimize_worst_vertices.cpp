@@ -86,7 +86,8 @@ WorstVertexStats optimize_worst_vertices(TetMesh& mesh, const WorstVertexOptions
     // (sorted below, so the order found does not matter).
     const auto found = scan_live_tets(mesh, std::vector<index_t>{}, [&](index_t t, std::vector<index_t>& out) {
       const Tet& T = mesh.tet(t);
-      if (tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) >= options.threshold)
+      if (std::none_of(T.begin(), T.end(), movable) ||  // first: the cheaper test
+          tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) >= options.threshold)
         return;
       for (const index_t v : T)
         if (movable(v)) out.push_back(v);

@@ -128,8 +128,16 @@ void add_flips(PhasedOdtStats& stats, const FlipImproveReport& r) {
 
 /// Live tets with stretch below `threshold` (in parallel: read only); with
 /// `no_inner_vertex`, also how many of them have all four vertices on the
-/// boundary.
-std::size_t count_below(const TetMesh& mesh, double threshold, std::size_t* no_inner_vertex = nullptr) {
+/// boundary. With `movable` (non-empty), only the tets with a movable vertex
+/// count: no operation changes the others.
+std::size_t count_below(const TetMesh& mesh, double threshold, std::size_t* no_inner_vertex = nullptr,
+                        const std::vector<std::uint8_t>& movable = {}) {
+  const auto may_change = [&](const Tet& T) {
+    if (movable.empty()) return true;
+    for (const index_t v : T)
+      if (static_cast<std::size_t>(v) < movable.size() && movable[v]) return true;
+    return false;
+  };
   using Counts = std::pair<std::size_t, std::size_t>;  // (below, of which without inner vertex)
   const Counts c = parallel_reduce(
       static_cast<long>(mesh.tet_slots()), Counts(0, 0),
@@ -138,7 +146,8 @@ std::size_t count_below(const TetMesh& mesh, double threshold, std::size_t* no_i
         for (long t = begin; t < end; ++t) {
           if (!mesh.tet_alive(static_cast<index_t>(t))) continue;
           const Tet& T = mesh.tet(static_cast<index_t>(t));
-          if (!(tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) < threshold))
+          if (!may_change(T) ||
+              !(tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) < threshold))
             continue;
           ++k.first;
           k.second += std::all_of(T.begin(), T.end(), [&](index_t v) { return mesh.on_boundary(v); });
@@ -156,17 +165,20 @@ std::vector<std::uint8_t> vertices_of_poor_tets(const TetMesh& mesh, const std::
                                                 double threshold) {
   const long slots = mesh.tet_slots();
   std::vector<std::uint8_t> poor(static_cast<std::size_t>(slots), 0);
+  const auto marks = [&](index_t v) {
+    return movable.empty() || (static_cast<std::size_t>(v) < movable.size() && movable[v]);
+  };
   parallel_for(slots, [&](long t) {
     if (!mesh.tet_alive(static_cast<index_t>(t))) return;
     const Tet& T = mesh.tet(static_cast<index_t>(t));
     poor[static_cast<std::size_t>(t)] =
+        std::any_of(T.begin(), T.end(), marks) &&  // first: the cheaper test
         tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])) < threshold;
   });
   std::vector<std::uint8_t> mask(static_cast<std::size_t>(mesh.vertex_slots()), 0);
   for (long t = 0; t < slots; ++t) {
     if (!poor[static_cast<std::size_t>(t)]) continue;
-    for (const index_t v : mesh.tet(static_cast<index_t>(t)))
-      mask[v] = movable.empty() || (static_cast<std::size_t>(v) < movable.size() && movable[v]);
+    for (const index_t v : mesh.tet(static_cast<index_t>(t))) mask[v] = marks(v);
   }
   return mask;
 }
@@ -213,7 +225,8 @@ void smooth_volume_round(TetMesh& mesh, const PhasedOdtOptions& options, int ite
 /// best minimum stretch, then any interior edge of them split, flips.
 void repair_tets_below_floor(TetMesh& mesh, const BoundaryGeometry& geometry, const PhasedOdtTarget& target,
                              const PhasedOdtOptions& options, PhasedOdtStats& stats) {
-  std::size_t below = count_below(mesh, options.quality_floor);
+  // The tets that may change (a local run leaves the rest as it is).
+  std::size_t below = count_below(mesh, options.quality_floor, nullptr, movable_vertices(mesh, options));
   for (int pass = 0; pass < 4 && below > 0; ++pass) {
     if (pass > 0) smooth_boundary_near_poor_tets(mesh, geometry, target, options, stats);
     LockedTetOptions lo;
@@ -238,7 +251,7 @@ void repair_tets_below_floor(TetMesh& mesh, const BoundaryGeometry& geometry, co
       if (options.poor_elements_only) fo.quality_threshold = options.quality_floor;
       add_flips(stats, improve_tets_by_flips(mesh, fo));
     }
-    const std::size_t now = count_below(mesh, options.quality_floor);
+    const std::size_t now = count_below(mesh, options.quality_floor, nullptr, movable_vertices(mesh, options));
     if (now >= below) break;
     below = now;
   }
