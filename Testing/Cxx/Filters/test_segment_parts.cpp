@@ -339,11 +339,10 @@ TEST_P(SegmentPartApproximateCurves, AtDefaults) {
 }
 
 INSTANTIATE_TEST_SUITE_P(DataParts, SegmentPartApproximateCurves,
-                         ::testing::Values("boss_block", "filleted_box", "cone_sphere_torus"));
-// Not yet at the goals with approximate curves: the G1 fillet junctions and
-// the freeform face (issue 28).
+                         ::testing::Values("boss_block", "filleted_box", "cone_sphere_torus", "bspline_face"));
+// Not yet at the goals with approximate curves: the G1 fillet junctions.
 INSTANTIATE_TEST_SUITE_P(DISABLED_DataPartsNotYet, SegmentPartApproximateCurves,
-                         ::testing::Values("fillet_junctions", "bspline_face"));
+                         ::testing::Values("fillet_junctions"));
 
 INSTANTIATE_TEST_SUITE_P(DataParts, SegmentPart,
                          ::testing::Values("boss_block", "filleted_box", "cone_sphere_torus", "fillet_junctions",
