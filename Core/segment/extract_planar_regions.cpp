@@ -76,8 +76,8 @@ void measure_precision(State& st, const std::vector<std::vector<index_t>>& seeds
   constexpr double kNoiseFactor = 1e4;
   constexpr double kMinRelative = 1e-6;
   constexpr double kCurveRatio = 4.0;
-  st.tolerance = std::min(st.tolerance, std::max({kNoiseFactor * st.noise, kMinRelative * st.scale,
-                                                  st.curve_tolerance / kCurveRatio}));
+  st.precision = std::max(kNoiseFactor * st.noise, kMinRelative * st.scale);
+  st.tolerance = std::min(st.tolerance, std::max(st.precision, st.curve_tolerance / kCurveRatio));
 }
 
 }  // namespace

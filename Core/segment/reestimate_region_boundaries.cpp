@@ -12,27 +12,31 @@ namespace segment {
 
 namespace {
 
-/// How many of the triangle's vertices lie within the tight tolerance of s;
-/// 0 for all while boundary curves are as exact as the rest (the distances
-/// alone decide).
+/// How many of the triangle's vertices lie exactly on s (within
+/// State::exact_tolerance, the mesh's own precision: a small fit that passes
+/// near a face's vertices does not count as explaining them); 0 for all
+/// while boundary curves are as exact as the rest (the distances alone
+/// decide).
 int exact_count(const State& st, const SurfacePrimitive& s, index_t f) {
   if (!(st.curve_tolerance > st.tolerance)) return 0;
   int n = 0;
-  for (index_t v : st.surface.triangles[f]) n += distance(s, st.surface.points[v]) <= st.tolerance;
+  const double exact = st.exact_tolerance();
+  for (index_t v : st.surface.triangles[f]) n += distance(s, st.surface.points[v]) <= exact;
   return n;
 }
 
 /// Where boundary curves are approximate: the distances of the triangle to
-/// surfaces a and b over its vertices within the tight tolerance of either
+/// surfaces a and b over its vertices exactly on either
 /// (those inside a face; a vertex on an approximate curve is off both and
 /// tells nothing). Left as they are when there is no such vertex.
 void exact_distances(const State& st, const SurfacePrimitive& a, const SurfacePrimitive& b, index_t f, double& da,
                      double& db) {
+  const double exact = st.exact_tolerance();
   double ma = 0, mb = 0;
   bool any = false;
   for (index_t v : st.surface.triangles[f]) {
     const double ea = distance(a, st.surface.points[v]), eb = distance(b, st.surface.points[v]);
-    if (std::min(ea, eb) > st.tolerance) continue;
+    if (std::min(ea, eb) > exact) continue;
     ma = std::max(ma, ea);
     mb = std::max(mb, eb);
     any = true;
@@ -91,7 +95,7 @@ void reestimate_region_boundaries(State& st) {
           exact_distances(st, o.surface, mine.surface, f, d, d_own);
         // Where boundary curves are approximate, a triangle's vertices on
         // them lie off both surfaces: the surface with more of its vertices
-        // within the tight tolerance (inside the face) explains it, and the
+        // exactly on it (inside the face) explains it, and the
         // distances decide between equal counts.
         const int exact = exact_count(st, o.surface, f);
         const int exact_own = mine.type == SurfaceType::Unknown ? 0 : exact_count(st, mine.surface, f);

@@ -393,7 +393,7 @@ WorkRegion integrate_region(const State& st, SurfaceType type, const std::vector
 
 std::size_t min_vertices(SurfaceType type) {
   switch (type) {
-    case SurfaceType::Plane: return 3;
+    case SurfaceType::Plane: return 4;
     case SurfaceType::Sphere: return 6;
     case SurfaceType::Cylinder: return 7;
     case SurfaceType::Cone: return 8;

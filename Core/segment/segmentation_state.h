@@ -39,6 +39,12 @@ struct State {
   /// than the nodes inside (0 until measured by extract_planar_regions;
   /// near_tolerance() is never below the tight one).
   double curve_tolerance = 0;
+  /// Distance under which a vertex lies on a surface to the mesh's own
+  /// precision (1e4 x noise, at least 1e-6 of the part; 0 until measured by
+  /// extract_planar_regions): where the boundary curves are approximate the
+  /// tolerance stays above it (see measure_precision), and this tells the
+  /// vertices inside a face from those merely near it.
+  double precision = 0;
   /// A length of the part (bounding box diagonal), for relative comparisons.
   double scale = 1;
   /// The mesh's precision: median distance of planar seed vertices to their
@@ -62,6 +68,9 @@ struct State {
   index_t slot(index_t v) const { return vertex_slot_[v]; }
   /// The tolerance of boundary-curve vertices.
   double near_tolerance() const { return std::max(tolerance, curve_tolerance); }
+  /// The tolerance of a vertex exactly on a surface: precision, never above
+  /// the tight tolerance (the tight tolerance while unmeasured).
+  double exact_tolerance() const { return precision > 0 ? std::min(precision, tolerance) : tolerance; }
   /// Per vertex of `vertices` (= vertices_of(triangles)): 1 when every mesh
   /// triangle around it is in `triangles`, i.e. it is inside the set, not on
   /// its border (where a face's boundary curves run).
