@@ -185,6 +185,7 @@ void merge_equal_regions(State& state);          // adjacent regions with one su
 /// (a fragment cut out of a real face), growing over them breadth-first.
 void absorb_unknown_triangles(State& state);
 bool dissolve_ambiguous_regions(State& state);   // freeform faces: patchworks of local fits become unknown; true if any
+void absorb_fragment_regions(State& state);      // A14 false regions, where curves are approximate: fragments join a neighbour
 void refine_region_fits(State& state);           // A15, Levenberg-Marquardt
 void build_region_graph(const State& state, Segmentation& out);          // adjacency, G0/G1, convexity
 void recognize_boundary_curves(const State& state, Segmentation& out);  // A16
