@@ -46,9 +46,11 @@ void exact_distances(const State& st, const SurfacePrimitive& a, const SurfacePr
   db = mb;
 }
 
-}  // namespace
-
-void reestimate_region_boundaries(State& st) {
+/// One re-estimation over the current fits: border triangles move to the
+/// neighbour that explains them clearly better, the border advancing one
+/// triangle per round. Marks the regions that lost or gained triangles in
+/// `changed`; returns whether any moved.
+bool move_border_triangles(State& st, std::vector<char>& changed) {
   const SurfaceMesh& s = st.surface;
   const index_t nf = s.num_triangles();
   // Work lists of border triangles only: a move changes the border around
@@ -111,6 +113,7 @@ void reestimate_region_boundaries(State& st) {
       // Do not empty a fitted region (an unknown one may vanish).
       if (mine.type != SurfaceType::Unknown && size[own] <= 1) continue;
       st.triangle_region[f] = best;
+      changed[own] = changed[best] = 1;
       --size[own];
       ++size[best];
       any = true;
@@ -124,12 +127,41 @@ void reestimate_region_boundaries(State& st) {
     }
     candidates.swap(next);
   }
-  if (!any) return;
+  if (!any) return false;
   // Rebuild the triangle lists from the assignment.
   for (WorkRegion& r : st.regions) r.triangles.clear();
   for (index_t f = 0; f < nf; ++f)
     if (st.triangle_region[f] >= 0) st.regions[st.triangle_region[f]].triangles.push_back(f);
   for (WorkRegion& r : st.regions) r.alive = r.alive && !r.triangles.empty();
+  return true;
+}
+
+}  // namespace
+
+void reestimate_region_boundaries(State& st) {
+  std::vector<char> changed(st.regions.size(), 0);
+  if (!(st.curve_tolerance > st.tolerance)) {
+    move_border_triangles(st, changed);
+    return;
+  }
+  // At first each region is fitted as it is (thesis 2.4.4). Where boundary
+  // curves are approximate the fits of growth (of a partial region, and of a
+  // narrow face over all its vertices) are not exact, and the comparison
+  // counts exact vertices; a fit bent by a neighbour's triangles comes
+  // exact once they have moved out: refit the changed regions and compare
+  // again, a few times.
+  constexpr int kMaxPasses = 3;
+  changed.assign(st.regions.size(), 1);
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    for (std::size_t i = 0; i < st.regions.size(); ++i) {
+      WorkRegion& r = st.regions[i];
+      if (!changed[i] || !r.alive || r.type == SurfaceType::Unknown) continue;
+      const FitResult fit = refit_region(st, r.type, r.surface, r.triangles);
+      if (fit.ok && plausible_fit(st, fit.surface, r.triangles)) r.surface = fit.surface;
+    }
+    changed.assign(st.regions.size(), 0);
+    if (!move_border_triangles(st, changed)) break;
+  }
 }
 
 }  // namespace segment
