@@ -3,7 +3,8 @@
 // Applied where the boundary curves are approximate: a face one or two
 // triangles wide then has nearly all its vertices on its curves, off its
 // surface, and growing cuts it into fragments with fits of other types and
-// radii (a sphere of R 5.4 in a cylinder of R 5 next to a corner sphere).
+// radii (a sphere a little wider than the cylinder it lies in, next to the
+// corner sphere both are tangent to).
 // A fragment joins the neighbour with the longest shared border whose
 // surface every one of its triangles lies near (State::triangle_near), the
 // smallest fragments first; one across a junction of faces, near none as a

@@ -41,14 +41,15 @@ struct State {
   double curve_tolerance = 0;
   /// Distance under which a vertex lies on a surface to the mesh's own
   /// precision (1e4 x noise, at least 1e-6 of the part; 0 until measured by
-  /// extract_planar_regions): where the boundary curves are approximate the
+  /// extract_planar_regions, and with adaptive_tolerance off, when the
+  /// tolerance is what the user set): where the boundary curves are approximate the
   /// tolerance stays above it (see measure_precision), and this tells the
   /// vertices inside a face from those merely near it.
   double precision = 0;
   /// A length of the part (bounding box diagonal), for relative comparisons.
   double scale = 1;
-  /// The mesh's precision: median distance of planar seed vertices to their
-  /// planes (0 until measured by extract_planar_regions).
+  /// The mesh's noise: median distance of the planar seeds' inner vertices
+  /// to their planes (0 until measured by extract_planar_regions).
   double noise = 0;
   std::vector<std::string> warnings;
 
