@@ -11,7 +11,9 @@
 // until the tolerance stops it, so its vertices spread over the whole band,
 // while a CAD face fits its vertices to the noise of the mesh, far below
 // (this keeps short G1 boundaries between small fillets, which can look
-// blurred on a jittered mesh).
+// blurred on a jittered mesh). Where the boundary curves are approximate,
+// the tolerance stays well above the mesh's precision, and a fit whose inner
+// vertices lie off it by more than the precision goes whatever its borders.
 #include "segment/segmentation_state.h"
 
 #include <algorithm>
@@ -80,6 +82,7 @@ bool dissolve_ambiguous_regions(State& st) {
   // those few tilt its least-squares fit. So: refit on the better half of
   // the vertices, then take the median distance of all of them.
   std::vector<double> median(st.regions.size(), -1);
+  std::vector<char> by_inner(st.regions.size(), 0);  // median over inner vertices only
   auto median_distance = [&](const SurfacePrimitive& surface, const std::vector<Vec3>& points) {
     std::vector<double> d;
     d.reserve(points.size());
@@ -88,21 +91,63 @@ bool dissolve_ambiguous_regions(State& st) {
     std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
     return d[d.size() / 2];
   };
+  auto robust_median = [&](const WorkRegion& r, const std::vector<Vec3>& points) {
+    const double m = median_distance(r.surface, points);
+    std::vector<Vec3> better;
+    for (const Vec3& p : points)
+      if (distance(r.surface, p) <= m) better.push_back(p);
+    const FitResult refit =
+        r.type == SurfaceType::Plane ? fit_plane(better, nullptr) : refine_fit_lm(r.surface, better);
+    return refit.ok ? std::min(m, median_distance(refit.surface, points)) : m;
+  };
   auto stretched = [&](const WorkRegion& r) {
     const std::size_t i = static_cast<std::size_t>(&r - st.regions.data());
     if (median[i] < 0) {
-      const std::vector<Vec3> points = st.positions(st.fit_vertices(r.triangles, 2 * min_vertices(r.type)));
-      const double m = median_distance(r.surface, points);
-      std::vector<Vec3> better;
-      for (const Vec3& p : points)
-        if (distance(r.surface, p) <= m) better.push_back(p);
-      const FitResult refit =
-          r.type == SurfaceType::Plane ? fit_plane(better, nullptr) : refine_fit_lm(r.surface, better);
-      median[i] = refit.ok ? std::min(m, median_distance(refit.surface, points)) : m;
+      const std::vector<index_t> chosen = st.fit_vertices(r.triangles, 2 * min_vertices(r.type));
+      by_inner[i] = chosen.size() < st.vertices_of(r.triangles).size();
+      median[i] = robust_median(r, st.positions(chosen));
     }
     return median[i] > kStretched * st.tolerance || median[i] > kInexact * noise;
   };
+  // The vertices of region r that touch no other fitted region: inside it
+  // or on its border with unknown ones, so on no boundary curve between
+  // fitted faces (a local fit's border inside a freeform face is no CAD
+  // curve, and its vertices are as exact as the inner ones).
+  auto off_curves = [&](index_t r) {
+    std::vector<index_t> kept;
+    for (index_t v : st.vertices_of(st.regions[r].triangles)) {
+      bool alone = true;
+      for (index_t k = s.vertex_offsets[v]; k < s.vertex_offsets[v + 1] && alone; ++k) {
+        const index_t o = st.triangle_region[s.vertex_triangles[k]];
+        alone = o == r || o < 0 || st.regions[o].type == SurfaceType::Unknown;
+      }
+      if (alone) kept.push_back(v);
+    }
+    return kept;
+  };
   std::vector<char> dissolve(st.regions.size(), 0);
+  // Where the tolerance is looser than the mesh's precision (approximate
+  // boundary curves keep it up), a fit within the tolerance may still be a
+  // local approximation: the vertices inside a CAD face lie on it to the
+  // precision. A region whose inner vertices do not is no face of its type,
+  // whatever its boundaries look like.
+  if (st.exact_tolerance() < st.tolerance)
+    for (std::size_t r = 0; r < st.regions.size(); ++r) {
+      const WorkRegion& region = st.regions[r];
+      if (!region.alive || region.type == SurfaceType::Unknown) continue;
+      stretched(region);
+      if (by_inner[r]) {
+        if (median[r] > st.exact_tolerance()) dissolve[r] = 1;
+        continue;
+      }
+      // Too few inner vertices (a small local fit): judged on those off
+      // the curves between fitted faces when they are enough.
+      const std::vector<index_t> kept = off_curves(static_cast<index_t>(r));
+      const std::size_t all = st.vertices_of(region.triangles).size();
+      if (kept.size() >= 2 * min_vertices(region.type) && 4 * kept.size() >= all &&
+          robust_median(region, st.positions(kept)) > st.exact_tolerance())
+        dissolve[r] = 1;
+    }
   for (const auto& [pair, c] : along) {
     // A small fit whose surface runs on into an unknown neighbour (that
     // neighbour's triangles along it lie on it) is a piece of the same

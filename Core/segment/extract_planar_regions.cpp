@@ -11,28 +11,46 @@ namespace segment {
 
 namespace {
 
-/// The mesh's precision, measured on its planar seeds (the median vertex
-/// distance to their fitted planes, median over seeds weighted by size),
-/// and the tolerance tightened to it when adaptive_tolerance is on. Also the
-/// precision of the boundary curves: a CAD mesh's nodes inside a
+/// The mesh's precision, measured on its planar seeds (the median distance
+/// of a seed's inner vertices to their plane, median over seeds weighted by
+/// size), and the tolerance tightened to it when adaptive_tolerance is on.
+/// Also the precision of the boundary curves: a CAD mesh's nodes inside a
 /// face lie on it exactly, those on its edge curves only as well as the
 /// file's curves approximate the face intersections. The curve tolerance is
-/// six times the 0.9-quantile of the seeds' border vertex distances to their
-/// planes (border vertices lie on the curves or next to them), capped at
-/// 1e-3 of the part: beyond that a node is off the face, not on its curve.
+/// six times the 0.9-quantile of the seeds' border vertex distances to the
+/// planes of their inner vertices (border vertices lie on the curves or next
+/// to them), capped at 1e-3 of the part: beyond that a node is off the face,
+/// not on its curve. The tolerance is not tightened below a quarter of the
+/// curve tolerance: a face one or two triangles wide between approximate
+/// curves has no vertex closer to it than that, and two faces meeting at an
+/// angle too small to show over that distance cannot be told apart along
+/// their curve anyway. The precision stays what it measured (dissolving
+/// local fits of freeform faces compares with it).
 void measure_precision(State& st, const std::vector<std::vector<index_t>>& seeds,
                        const std::vector<FitResult>& fits) {
+  constexpr std::size_t kMinInner = 6;
   std::vector<std::pair<double, double>> medians;  // (median distance, triangles)
   std::vector<double> border;                      // border vertex distances
   double total = 0;
   for (std::size_t i = 0; i < seeds.size(); ++i) {
-    if (!fits[i].ok || fits[i].max_abs > st.tolerance || seeds[i].size() < 4) continue;
-    std::vector<double> d;
+    if (!fits[i].ok || seeds[i].size() < 4) continue;
     const std::vector<index_t> vertices = st.vertices_of(seeds[i]);
     const std::vector<char> inner = st.inner_mask(seeds[i], vertices);
+    // The plane of the inner vertices where there are enough of them: off
+    // the boundary curves, the median tells the mesh's precision, not how
+    // far the curves tilt a fit of all vertices.
+    std::vector<Vec3> inner_points;
+    for (std::size_t k = 0; k < vertices.size(); ++k)
+      if (inner[k]) inner_points.push_back(st.surface.points[vertices[k]]);
+    FitResult plane = fits[i];
+    const bool by_inner = inner_points.size() >= kMinInner && 4 * inner_points.size() >= vertices.size();
+    if (by_inner) plane = fit_plane(inner_points, nullptr);
+    if (!plane.ok || plane.max_abs > st.tolerance) continue;
+    std::vector<double> d;
     for (std::size_t k = 0; k < vertices.size(); ++k) {
-      d.push_back(distance(fits[i].surface, st.surface.points[vertices[k]]));
-      if (!inner[k]) border.push_back(d.back());
+      const double e = distance(plane.surface, st.surface.points[vertices[k]]);
+      if (!inner[k]) border.push_back(e);
+      if (inner[k] || !by_inner) d.push_back(e);
     }
     std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
     medians.emplace_back(d[d.size() / 2], static_cast<double>(seeds[i].size()));
@@ -57,7 +75,9 @@ void measure_precision(State& st, const std::vector<std::vector<index_t>>& seeds
   if (!st.params.adaptive_tolerance) return;
   constexpr double kNoiseFactor = 1e4;
   constexpr double kMinRelative = 1e-6;
-  st.tolerance = std::min(st.tolerance, std::max(kNoiseFactor * st.noise, kMinRelative * st.scale));
+  constexpr double kCurveRatio = 4.0;
+  st.precision = std::max(kNoiseFactor * st.noise, kMinRelative * st.scale);
+  st.tolerance = std::min(st.tolerance, std::max(st.precision, st.curve_tolerance / kCurveRatio));
 }
 
 }  // namespace

@@ -73,6 +73,9 @@ Status segment_surface(const SurfaceMesh& surface, const SegmentationParams& par
     segment::absorb_unknown_triangles(st);
     segment::merge_equal_regions(st);
   }
+  // Fragments of narrow faces between approximate curves (thesis 2.4.4's
+  // false regions) join their neighbours.
+  segment::absorb_fragment_regions(st);
   out.times.cleanup = lap();
   if (!report(0.8, "fit refinement")) return aborted;
   segment::refine_region_fits(st);

@@ -393,13 +393,42 @@ WorkRegion integrate_region(const State& st, SurfaceType type, const std::vector
 
 std::size_t min_vertices(SurfaceType type) {
   switch (type) {
-    case SurfaceType::Plane: return 3;
+    case SurfaceType::Plane: return 4;
     case SurfaceType::Sphere: return 6;
     case SurfaceType::Cylinder: return 7;
     case SurfaceType::Cone: return 8;
     default: return 9;
   }
 }
+
+namespace {
+
+/// Whether every triangle lies near s (State::triangle_near) but a few, at
+/// most a tenth, each on the border of the set (sharing an edge with a
+/// triangle outside it).
+bool near_but_border(const State& st, const SurfacePrimitive& s, const std::vector<index_t>& triangles) {
+  constexpr std::size_t kFewDivisor = 10;
+  std::vector<index_t> far;
+  for (index_t f : triangles)
+    if (!st.triangle_near(s, f)) {
+      far.push_back(f);
+      if (far.size() * kFewDivisor > triangles.size()) return false;
+    }
+  if (far.empty()) return true;
+  std::vector<index_t> sorted = triangles;
+  std::sort(sorted.begin(), sorted.end());
+  for (index_t f : far) {
+    bool border = false;
+    for (int k = 0; k < 3 && !border; ++k) {
+      const index_t g = st.surface.neighbors[f][k];
+      border = g < 0 || !std::binary_search(sorted.begin(), sorted.end(), g);
+    }
+    if (!border) return false;
+  }
+  return true;
+}
+
+}  // namespace
 
 bool simpler_type_fits(const State& st, SurfaceType type, const std::vector<index_t>& triangles, double max_abs) {
   // Where boundary curves are approximate, max_abs is set by their noise
@@ -426,6 +455,14 @@ bool simpler_type_fits(const State& st, SurfaceType type, const std::vector<inde
     if (quick.max_abs > 10 * bar) continue;
     const FitResult fit = fit_region(st, s, triangles);
     if (fit.ok && fit.max_abs <= bar) return true;
+    // Where boundary curves are approximate, max_abs came from a refit over
+    // the exact vertices (refit_region): the simpler type gets the same, and
+    // it is judged by triangles, not by the single worst vertex: a region
+    // that grew a few triangles into a tangent neighbour (at a G1 junction)
+    // bends a fit with more parameters towards them.
+    if (!fit.ok || !(st.curve_tolerance > st.tolerance)) continue;
+    const FitResult exact = refit_region(st, s, fit.surface, triangles);
+    if (exact.ok && (exact.max_abs <= bar || near_but_border(st, exact.surface, triangles))) return true;
   }
   return false;
 }

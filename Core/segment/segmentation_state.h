@@ -39,10 +39,17 @@ struct State {
   /// than the nodes inside (0 until measured by extract_planar_regions;
   /// near_tolerance() is never below the tight one).
   double curve_tolerance = 0;
+  /// Distance under which a vertex lies on a surface to the mesh's own
+  /// precision (1e4 x noise, at least 1e-6 of the part; 0 until measured by
+  /// extract_planar_regions, and with adaptive_tolerance off, when the
+  /// tolerance is what the user set): where the boundary curves are approximate the
+  /// tolerance stays above it (see measure_precision), and this tells the
+  /// vertices inside a face from those merely near it.
+  double precision = 0;
   /// A length of the part (bounding box diagonal), for relative comparisons.
   double scale = 1;
-  /// The mesh's precision: median distance of planar seed vertices to their
-  /// planes (0 until measured by extract_planar_regions).
+  /// The mesh's noise: median distance of the planar seeds' inner vertices
+  /// to their planes (0 until measured by extract_planar_regions).
   double noise = 0;
   std::vector<std::string> warnings;
 
@@ -62,6 +69,9 @@ struct State {
   index_t slot(index_t v) const { return vertex_slot_[v]; }
   /// The tolerance of boundary-curve vertices.
   double near_tolerance() const { return std::max(tolerance, curve_tolerance); }
+  /// The tolerance of a vertex exactly on a surface: precision, never above
+  /// the tight tolerance (the tight tolerance while unmeasured).
+  double exact_tolerance() const { return precision > 0 ? std::min(precision, tolerance) : tolerance; }
   /// Per vertex of `vertices` (= vertices_of(triangles)): 1 when every mesh
   /// triangle around it is in `triangles`, i.e. it is inside the set, not on
   /// its border (where a face's boundary curves run).
@@ -176,6 +186,7 @@ void merge_equal_regions(State& state);          // adjacent regions with one su
 /// (a fragment cut out of a real face), growing over them breadth-first.
 void absorb_unknown_triangles(State& state);
 bool dissolve_ambiguous_regions(State& state);   // freeform faces: patchworks of local fits become unknown; true if any
+void absorb_fragment_regions(State& state);      // A14 false regions, where curves are approximate: fragments join a neighbour
 void refine_region_fits(State& state);           // A15, Levenberg-Marquardt
 void build_region_graph(const State& state, Segmentation& out);          // adjacency, G0/G1, convexity
 void recognize_boundary_curves(const State& state, Segmentation& out);  // A16

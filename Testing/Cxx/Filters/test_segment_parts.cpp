@@ -294,7 +294,7 @@ Accuracy accuracy(const Part& part, const Result& r) {
 /// their faces by 1e-4 to 5e-4 of the bounding box diagonal in a random
 /// direction, the nodes inside faces left exact: how a mesh made from a STEP
 /// file looks, whose edge curves are approximations of the face
-/// intersections (issue 28). Seam curves (one adjacent face: a line or
+/// intersections. Seam curves (one adjacent face: a line or
 /// circle of the surface itself) stay exact.
 vtkSmartPointer<vtkUnstructuredGrid> approximate_curves(const Part& part) {
   vtkNew<vtkUnstructuredGrid> out;
@@ -325,7 +325,7 @@ vtkSmartPointer<vtkUnstructuredGrid> approximate_curves(const Part& part) {
 class SegmentPartApproximateCurves : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(SegmentPartApproximateCurves, AtDefaults) {
-  // Issue 28's goals at the default settings: >= 99.9% of the triangles in
+  // Segment's goals on CAD meshes (docs/ARCHITECTURE.md) at the defaults: >= 99.9% of the triangles in
   // the region of their CAD face, >= 99.5% in a region of its type.
   const Part part = load(GetParam());
   const Result r = segment(approximate_curves(part), femorph::SegmentationParams());
@@ -339,11 +339,8 @@ TEST_P(SegmentPartApproximateCurves, AtDefaults) {
 }
 
 INSTANTIATE_TEST_SUITE_P(DataParts, SegmentPartApproximateCurves,
-                         ::testing::Values("boss_block", "filleted_box", "cone_sphere_torus"));
-// Not yet at the goals with approximate curves: the G1 fillet junctions and
-// the freeform face (issue 28).
-INSTANTIATE_TEST_SUITE_P(DISABLED_DataPartsNotYet, SegmentPartApproximateCurves,
-                         ::testing::Values("fillet_junctions", "bspline_face"));
+                         ::testing::Values("boss_block", "filleted_box", "cone_sphere_torus", "fillet_junctions",
+                                           "bspline_face"));
 
 INSTANTIATE_TEST_SUITE_P(DataParts, SegmentPart,
                          ::testing::Values("boss_block", "filleted_box", "cone_sphere_torus", "fillet_junctions",
