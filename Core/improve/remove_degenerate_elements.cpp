@@ -154,12 +154,15 @@ class DegenerateRemover {
 
   /// Below the threshold and not inverted (inverted tets are for
   /// remove_inverted_elements).
+  /// *q: its stretch, or infinity for a tet with a vertex outside the mask
+  /// (never a target: a local run's scans skip the rest of the mesh).
   bool is_target(index_t t, double* q) const {
-    *q = stretch(t);
-    if (!(*q < opt_.stretch_threshold)) return false;
+    *q = std::numeric_limits<double>::infinity();
     if (!opt_.vertex_mask.empty())
       for (const index_t v : m_.tet(t))
         if (static_cast<std::size_t>(v) < mask_size_ && !opt_.vertex_mask[v]) return false;
+    *q = stretch(t);
+    if (!(*q < opt_.stretch_threshold)) return false;
     return m_.orientation(t) >= 0;
   }
 

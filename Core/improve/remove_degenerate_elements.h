@@ -86,7 +86,9 @@ struct DegenerateRemovalStats {
   std::size_t removed_spades = 0;    ///< successful split collapses on spades
   std::size_t failed = 0;            ///< popped tets no operation could remove
   std::size_t remaining_below = 0;   ///< live positive tets still below the threshold
-  double min_stretch_before = 0;     ///< over all live tets
+  /// Over the live tets it may change: all of them, or those whose
+  /// vertices are all in vertex_mask.
+  double min_stretch_before = 0;
   double min_stretch_after = 0;
 };
 
