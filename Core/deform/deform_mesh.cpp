@@ -5,6 +5,7 @@
 #include "deform/deform_internal.h"
 
 #include "improve/improve_target.h"
+#include "improve/improve_volume.h"
 #include "improve/mesh_density.h"
 #include "improve/phased_odt.h"
 #include "mesh/tet_mesh.h"
@@ -25,13 +26,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-double min_stretch(const TetMesh& mesh, const std::vector<std::uint8_t>* mask = nullptr) {
-  double lo = std::numeric_limits<double>::infinity();
-  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-    if (!mesh.tet_alive(t) || (mask && !mask->empty() && !(*mask)[t])) continue;
-    const Tet& T = mesh.tet(t);
-    lo = std::min(lo, tet_stretch(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2]), mesh.point(T[3])));
-  }
+double min_stretch(const TetMesh& mesh) {
+  double lo = 0;
+  live_stretch_range(mesh, &lo, nullptr);
   return lo;
 }
 

@@ -27,8 +27,25 @@ RegionGraph region_adjacency(const TetMesh& mesh, std::size_t region_count, doub
   graph.neighbors.assign(region_count, {});
   graph.g1.assign(region_count, {});
   graph.area.assign(region_count, 0.0);
-  // Every boundary edge once per face (its two ends, region and normal),
-  // sorted so that the two faces of an edge are next to each other.
+  // The vertices on faces of two or more regions: only an edge between two
+  // of them can part two regions.
+  std::vector<index_t> first_region(static_cast<std::size_t>(mesh.vertex_slots()), kInvalidIndex);
+  std::vector<std::uint8_t> shared(first_region.size(), 0);
+  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+    if (!mesh.tet_alive(t)) continue;
+    for (int f = 0; f < 4; ++f) {
+      if (!mesh.is_boundary_face(t, f)) continue;
+      const index_t r = mesh.face_region(t, f);
+      if (r < 0 || r >= static_cast<index_t>(region_count)) continue;
+      for (int k = 0; k < 3; ++k) {
+        const index_t v = mesh.tet(t)[kTetFace[f][k]];
+        if (first_region[v] == kInvalidIndex) first_region[v] = r;
+        shared[v] |= first_region[v] != r;
+      }
+    }
+  }
+  // Every such boundary edge once per face (its two ends, region and
+  // normal), sorted so that the two faces of an edge are next to each other.
   struct Side {
     index_t a, b, region;
     Vec3 normal;
@@ -49,6 +66,7 @@ RegionGraph region_adjacency(const TetMesh& mesh, std::size_t region_count, doub
       const Vec3 unit = n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero();
       for (int k = 0; k < 3; ++k) {
         index_t u = T[kTetFace[f][k]], v = T[kTetFace[f][(k + 1) % 3]];
+        if (!shared[u] || !shared[v]) continue;
         if (u > v) std::swap(u, v);
         sides.push_back({u, v, r, unit});
       }
