@@ -210,22 +210,31 @@ Status parameterize_vertices(const TetMesh& mesh, const DeformPlan& plan, const 
 /// Earlier solutions of one system of Eq. 2.10. The solution is linear in
 /// the knowns' displacements, so a right side in the span of earlier ones
 /// is answered by superposition instead of a solve: when only the target
-/// value changes, a linear dimension (a distance, a radius, a position)
-/// costs one solve, every later target none.
+/// value changes, a linear dimension (a distance, a position) costs one
+/// solve, every later target none; one whose boundary moves bend a little
+/// with the target (a radius: the curves are projected onto the new
+/// surfaces) a few solves, one per direction the moves add.
 class SolveHistory {
  public:
   /// `solution` (unknowns x 3): the superposition of the stored solutions
-  /// for `known` (knowns x 3). True when it is exact: what is left of
-  /// `known` outside the stored span is below kExact of its largest entry.
-  /// Otherwise `solution` is the superposed part (a warm start).
-  bool superpose(const Eigen::MatrixXd& known, Eigen::Index unknowns, Eigen::MatrixXd& solution) const;
+  /// for `known` (knowns x 3). True when it is exact to `exact`: what is
+  /// left of `known` outside the stored span is below `exact` of its
+  /// largest entry, which bounds the solution's error in the max norm (its
+  /// rows are weighted means of the knowns). Otherwise `solution` is the
+  /// superposed part (a warm start).
+  bool superpose(const Eigen::MatrixXd& known, Eigen::Index unknowns, Eigen::MatrixXd& solution,
+                 double exact = kExact) const;
   /// Stores a solved pair when `known` adds a direction to the span.
   void add(const Eigen::MatrixXd& known, const Eigen::MatrixXd& solution);
   void clear();
   std::size_t size() const { return basis_.size(); }
 
   static constexpr double kExact = 1e-12;
-  static constexpr double kNewDirection = 1e-4;
+  /// For the inner vertices: an error below 1e-9 of the largest boundary
+  /// move is far below any use of an inner vertex's position (Improve
+  /// moves them next), and spares a solve per target of a radius.
+  static constexpr double kInnerExact = 1e-9;
+  static constexpr double kNewDirection = 1e-11;
   static constexpr std::size_t kMaxSize = 8;
 
  private:

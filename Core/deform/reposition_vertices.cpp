@@ -53,7 +53,7 @@ Vec3 project(const std::vector<SurfacePrimitive>& surfaces, const std::vector<in
 /// superposition of earlier solutions where they span the knowns' moves,
 /// else by a solve (warm-started from the superposed part when iterative).
 void solve(const VertexParameterization::System& system, SolveHistory* history, std::vector<Vec3>& points,
-           const std::vector<Vec3>& rest) {
+           const std::vector<Vec3>& rest, double exact = SolveHistory::kExact) {
   if (system.unknowns.empty()) return;
   const auto n = static_cast<Eigen::Index>(system.unknowns.size());
   Eigen::MatrixXd known(system.knowns.size(), 3);
@@ -62,13 +62,13 @@ void solve(const VertexParameterization::System& system, SolveHistory* history, 
     known.row(static_cast<Eigen::Index>(k)) = (points[v] - rest[v]).transpose();
   }
   Eigen::MatrixXd u;
-  bool exact = false;
+  bool superposed = false;
   if (history) {
-    exact = history->superpose(known, n, u);
+    superposed = history->superpose(known, n, u, exact);
   } else {
     u = Eigen::MatrixXd::Zero(n, 3);
   }
-  if (!exact) {
+  if (!superposed) {
     const Eigen::MatrixXd rhs = system.rhs * known;
     bool solved = false;
     if (system.lu) {
@@ -144,7 +144,7 @@ void reposition_vertices(const TetMesh& mesh, const DeformRegions& /*regions*/, 
     points[v] = project(update.surfaces, {param.region[v]}, points[v], tol);
     keep_axis_coordinates(update.surfaces, {param.region[v]}, rest[v], points[v]);
   }
-  solve(param.inner, history ? &history->inner : nullptr, points, rest);
+  solve(param.inner, history ? &history->inner : nullptr, points, rest, SolveHistory::kInnerExact);
 }
 
 }  // namespace femorph

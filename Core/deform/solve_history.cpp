@@ -14,7 +14,8 @@ double dot(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a.array
 
 }  // namespace
 
-bool SolveHistory::superpose(const Eigen::MatrixXd& known, Eigen::Index unknowns, Eigen::MatrixXd& solution) const {
+bool SolveHistory::superpose(const Eigen::MatrixXd& known, Eigen::Index unknowns, Eigen::MatrixXd& solution,
+                             double exact) const {
   solution = Eigen::MatrixXd::Zero(unknowns, known.cols());
   if (!basis_.empty() && (basis_[0].rows() != known.rows() || solutions_[0].rows() != unknowns)) return false;
   Eigen::MatrixXd rest = known;
@@ -26,7 +27,7 @@ bool SolveHistory::superpose(const Eigen::MatrixXd& known, Eigen::Index unknowns
   // The solution is a weighted mean of the knowns (mean value coordinates),
   // so what is left of the right side bounds the error in the max norm.
   const double scale = known.size() ? known.cwiseAbs().maxCoeff() : 0.0;
-  return rest.size() == 0 || rest.cwiseAbs().maxCoeff() <= kExact * scale;
+  return rest.size() == 0 || rest.cwiseAbs().maxCoeff() <= exact * scale;
 }
 
 void SolveHistory::add(const Eigen::MatrixXd& known, const Eigen::MatrixXd& solution) {
