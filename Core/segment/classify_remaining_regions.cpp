@@ -52,17 +52,18 @@ bool integrate_first(State& st, const std::vector<index_t>& triangles, const Ver
   return false;
 }
 
-/// The verdicts of every type (slot k * kTypes + t) on each set, from
-/// slot `first` on (the others left failed). The fits run in parallel, each
+/// The verdicts of every type (slot k * kTypes + t) on each set, for the
+/// slots in [first, end) (the others left failed). The fits run in parallel, each
 /// result in its own slot, so they do not depend on the thread count.
 std::vector<Verdict> judge_sets(const State& st, const std::vector<const std::vector<index_t>*>& sets,
-                                std::size_t first = 0) {
+                                std::size_t first = 0, std::size_t end = std::size_t(-1)) {
   std::vector<Verdict> out(sets.size() * kTypes);
   // Costliest fits first (tori, cones, spheres) for an even share of the threads.
   std::vector<std::size_t> jobs;
   for (int t = kTypes - 1; t >= 0; --t)
     for (std::size_t k = 0; k < sets.size(); ++k)
-      if (k * kTypes + static_cast<std::size_t>(t) >= first) jobs.push_back(k * kTypes + static_cast<std::size_t>(t));
+      if (k * kTypes + static_cast<std::size_t>(t) >= first && k * kTypes + static_cast<std::size_t>(t) < end)
+        jobs.push_back(k * kTypes + static_cast<std::size_t>(t));
   parallel_for(
       static_cast<long>(jobs.size()),
       [&](long j) {
@@ -75,14 +76,19 @@ std::vector<Verdict> judge_sets(const State& st, const std::vector<const std::ve
 
 }  // namespace
 
-/// The plane, whose fit costs almost nothing, is tried first on its own:
-/// when it makes the patch a region (the usual flat leftover) the other
-/// fits are not needed.
+/// The types in stages of growing cost, each stage's fits in parallel: the
+/// plane alone (almost free), then cylinder and sphere, then cone and torus;
+/// a stage runs only when the ones before gave no region, so a patch that
+/// is a simple surface costs about what the serial order would.
 bool fit_patch(State& st, const std::vector<index_t>& triangles) {
-  const Verdict plane = judge(st, kOrder[0], triangles);
-  if (plane.pass && integrate_first(st, triangles, &plane, 0, 1)) return true;
-  const std::vector<Verdict> verdicts = judge_sets(st, {&triangles}, 1);
-  return integrate_first(st, triangles, verdicts.data(), 1);
+  const std::vector<const std::vector<index_t>*> sets{&triangles};
+  for (int first : {0, 1, 3}) {
+    const int end = first == 0 ? 1 : first + 2;
+    const std::vector<Verdict> verdicts = judge_sets(st, sets, static_cast<std::size_t>(first),
+                                                     static_cast<std::size_t>(end));
+    if (integrate_first(st, triangles, verdicts.data(), first, end)) return true;
+  }
+  return false;
 }
 
 namespace {
@@ -139,28 +145,26 @@ void classify_remaining_regions(State& st) {
       for (std::size_t k = 1; k < rings.size(); k += 2)
         for (index_t g : rings[k]) planned[g] = 0;
       if (at.empty()) break;
+      // A lone seed (the first, or the next after a region) is judged as
+      // fit_patch judges, in stages, so that a simple surface costs no
+      // more fits than the serial order.
+      if (at.size() == 1) {
+        pos = at[0] + 1;
+        const bool found = fit_patch(st, rings[0]) || fit_patch(st, rings[1]);
+        if (!found)
+          for (index_t g : rings[1]) tried[g] = 1;
+        batch = found ? 1 : std::min<std::size_t>(2 * batch, kMaxBatch);
+        continue;
+      }
       std::vector<const std::vector<index_t>*> sets;
       for (const std::vector<index_t>& r : rings) sets.push_back(&r);
-      // A lone seed (the first, or the next after a region) has its 2-ring
-      // judged as a plane first, as fit_patch does.
-      std::vector<Verdict> verdicts;
-      if (at.size() == 1) {
-        Verdict plane = judge(st, kOrder[0], rings[0]);
-        if (plane.pass && integrate_first(st, rings[0], &plane, 0, 1)) {
-          pos = at[0] + 1;
-          continue;
-        }
-        verdicts = judge_sets(st, sets, 1);
-        verdicts[0] = std::move(plane);
-      } else {
-        verdicts = judge_sets(st, sets);
-      }
+      const std::vector<Verdict> verdicts = judge_sets(st, sets);
       pos = at.back() + 1;
       bool found = false;
       for (std::size_t k = 0; k < at.size() && !found; ++k) {
         // The 3-ring is only judged when the 2-ring gives no region, which
         // leaves the state, and so the 3-ring neighbourhood, unchanged.
-        if (integrate_first(st, rings[2 * k], verdicts.data() + 2 * k * kTypes, at.size() == 1 ? 1 : 0) ||
+        if (integrate_first(st, rings[2 * k], verdicts.data() + 2 * k * kTypes) ||
             integrate_first(st, rings[2 * k + 1], verdicts.data() + (2 * k + 1) * kTypes)) {
           pos = at[k] + 1;
           found = true;
