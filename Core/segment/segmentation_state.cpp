@@ -2,25 +2,34 @@
 // integration by alternate growing and refitting (thesis 2.4.3.3).
 #include "segment/segmentation_state.h"
 
+#include "common/parallel.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace femorph {
 namespace segment {
 
+State::Scratch& State::scratch() const {
+  if (!in_parallel()) return scratch_;
+  thread_local Scratch own;
+  return own;
+}
+
 std::vector<index_t> State::vertices_of(const std::vector<index_t>& triangles) const {
-  if (vertex_slot_.size() != surface.points.size()) {
-    vertex_marks_.reset(surface.points.size());
-    vertex_slot_.assign(surface.points.size(), kInvalidIndex);
+  Scratch& sc = scratch();
+  if (sc.vertex_slot.size() != surface.points.size()) {
+    sc.vertex_marks.reset(surface.points.size());
+    sc.vertex_slot.assign(surface.points.size(), kInvalidIndex);
   }
-  const std::uint32_t mark = vertex_marks_.next(surface.points.size());
+  const std::uint32_t mark = sc.vertex_marks.next(surface.points.size());
   std::vector<index_t> v;
   v.reserve(triangles.size() / 2 + 3);
   for (index_t f : triangles)
     for (index_t w : surface.triangles[f])
-      if (vertex_marks_.stamp[w] != mark) {
-        vertex_marks_.stamp[w] = mark;
-        vertex_slot_[w] = static_cast<index_t>(v.size());
+      if (sc.vertex_marks.stamp[w] != mark) {
+        sc.vertex_marks.stamp[w] = mark;
+        sc.vertex_slot[w] = static_cast<index_t>(v.size());
         v.push_back(w);
       }
   return v;
@@ -28,13 +37,14 @@ std::vector<index_t> State::vertices_of(const std::vector<index_t>& triangles) c
 
 std::vector<char> State::inner_mask(const std::vector<index_t>& triangles,
                                     const std::vector<index_t>& vertices) const {
-  const std::uint32_t mark = triangle_marks_.next(static_cast<std::size_t>(surface.num_triangles()));
-  for (index_t f : triangles) triangle_marks_.stamp[f] = mark;
+  Stamps<std::uint32_t>& marks = scratch().triangle_marks;
+  const std::uint32_t mark = marks.next(static_cast<std::size_t>(surface.num_triangles()));
+  for (index_t f : triangles) marks.stamp[f] = mark;
   std::vector<char> inner(vertices.size(), 1);
   for (std::size_t i = 0; i < vertices.size(); ++i) {
     const index_t v = vertices[i];
     for (index_t k = surface.vertex_offsets[v]; k < surface.vertex_offsets[v + 1]; ++k)
-      if (triangle_marks_.stamp[surface.vertex_triangles[k]] != mark) {
+      if (marks.stamp[surface.vertex_triangles[k]] != mark) {
         inner[i] = 0;
         break;
       }

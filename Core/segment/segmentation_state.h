@@ -57,16 +57,22 @@ struct State {
 
  private:
   // Marks for vertices_of: linear time, no sort (it runs on every fit).
-  mutable Stamps<std::uint32_t> vertex_marks_;
-  mutable std::vector<index_t> vertex_slot_;
-  mutable Stamps<std::uint32_t> triangle_marks_;
+  struct Scratch {
+    Stamps<std::uint32_t> vertex_marks;
+    std::vector<index_t> vertex_slot;
+    Stamps<std::uint32_t> triangle_marks;
+  };
+  mutable Scratch scratch_;
+  /// scratch_ on the calling thread; a thread's own inside a parallel loop,
+  /// so that the const queries (fits, vertices_of) may run concurrently.
+  Scratch& scratch() const;
 
  public:
 
   /// Distinct vertices of a triangle set, in order of first appearance.
   /// After the call, slot(v) is v's position in the result (until the next).
   std::vector<index_t> vertices_of(const std::vector<index_t>& triangles) const;
-  index_t slot(index_t v) const { return vertex_slot_[v]; }
+  index_t slot(index_t v) const { return scratch().vertex_slot[v]; }
   /// The tolerance of boundary-curve vertices.
   double near_tolerance() const { return std::max(tolerance, curve_tolerance); }
   /// The tolerance of a vertex exactly on a surface: precision, never above
