@@ -29,21 +29,26 @@ RegionGraph region_adjacency(const TetMesh& mesh, std::size_t region_count, doub
   graph.area.assign(region_count, 0.0);
   // The vertices on faces of two or more regions: only an edge between two
   // of them can part two regions.
-  std::vector<index_t> first_region(static_cast<std::size_t>(mesh.vertex_slots()), kInvalidIndex);
-  std::vector<std::uint8_t> shared(first_region.size(), 0);
-  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-    if (!mesh.tet_alive(t)) continue;
-    for (int f = 0; f < 4; ++f) {
-      if (!mesh.is_boundary_face(t, f)) continue;
-      const index_t r = mesh.face_region(t, f);
-      if (r < 0 || r >= static_cast<index_t>(region_count)) continue;
-      for (int k = 0; k < 3; ++k) {
-        const index_t v = mesh.tet(t)[kTetFace[f][k]];
-        if (first_region[v] == kInvalidIndex) first_region[v] = r;
-        shared[v] |= first_region[v] != r;
+  // fn(t, f, r) for each boundary face (t, f) of a region r.
+  const auto for_each_region_face = [&](auto&& fn) {
+    for (index_t t = 0; t < mesh.tet_slots(); ++t) {
+      if (!mesh.tet_alive(t)) continue;
+      for (int f = 0; f < 4; ++f) {
+        if (!mesh.is_boundary_face(t, f)) continue;
+        const index_t r = mesh.face_region(t, f);
+        if (r >= 0 && r < static_cast<index_t>(region_count)) fn(t, f, r);
       }
     }
-  }
+  };
+  std::vector<index_t> first_region(static_cast<std::size_t>(mesh.vertex_slots()), kInvalidIndex);
+  std::vector<std::uint8_t> shared(first_region.size(), 0);
+  for_each_region_face([&](index_t t, int f, index_t r) {
+    for (int k = 0; k < 3; ++k) {
+      const index_t v = mesh.tet(t)[kTetFace[f][k]];
+      if (first_region[v] == kInvalidIndex) first_region[v] = r;
+      shared[v] |= first_region[v] != r;
+    }
+  });
   // Every such boundary edge once per face (its two ends, region and
   // normal), sorted so that the two faces of an edge are next to each other.
   struct Side {
@@ -51,27 +56,21 @@ RegionGraph region_adjacency(const TetMesh& mesh, std::size_t region_count, doub
     Vec3 normal;
   };
   std::vector<Side> sides;
-  for (index_t t = 0; t < mesh.tet_slots(); ++t) {
-    if (!mesh.tet_alive(t)) continue;
-    for (int f = 0; f < 4; ++f) {
-      if (!mesh.is_boundary_face(t, f)) continue;
-      const index_t r = mesh.face_region(t, f);
-      if (r < 0 || r >= static_cast<index_t>(region_count)) continue;
-      const Tet& T = mesh.tet(t);
-      const Vec3& a = mesh.point(T[kTetFace[f][0]]);
-      const Vec3& b = mesh.point(T[kTetFace[f][1]]);
-      const Vec3& c = mesh.point(T[kTetFace[f][2]]);
-      const Vec3 n = (b - a).cross(c - a);
-      graph.area[r] += 0.5 * n.norm();
-      const Vec3 unit = n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero();
-      for (int k = 0; k < 3; ++k) {
-        index_t u = T[kTetFace[f][k]], v = T[kTetFace[f][(k + 1) % 3]];
-        if (!shared[u] || !shared[v]) continue;
-        if (u > v) std::swap(u, v);
-        sides.push_back({u, v, r, unit});
-      }
+  for_each_region_face([&](index_t t, int f, index_t r) {
+    const Tet& T = mesh.tet(t);
+    const Vec3& a = mesh.point(T[kTetFace[f][0]]);
+    const Vec3& b = mesh.point(T[kTetFace[f][1]]);
+    const Vec3& c = mesh.point(T[kTetFace[f][2]]);
+    const Vec3 n = (b - a).cross(c - a);
+    graph.area[r] += 0.5 * n.norm();
+    const Vec3 unit = n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero();
+    for (int k = 0; k < 3; ++k) {
+      index_t u = T[kTetFace[f][k]], v = T[kTetFace[f][(k + 1) % 3]];
+      if (!shared[u] || !shared[v]) continue;
+      if (u > v) std::swap(u, v);
+      sides.push_back({u, v, r, unit});
     }
-  }
+  });
   std::sort(sides.begin(), sides.end(),
             [](const Side& x, const Side& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
   // Per region pair: summed angle and count.
