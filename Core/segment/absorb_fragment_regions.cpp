@@ -61,13 +61,7 @@ void absorb_fragment_regions(State& st) {
         if (fit.ok && plausible_fit(st, fit.surface, into.triangles)) into.surface = fit.surface;
         fresh[b] = 1;
       }
-      bool all_near = true;
-      for (index_t f : fragment.triangles) all_near = all_near && st.triangle_near(into.surface, f);
-      if (!all_near) continue;
-      for (index_t f : fragment.triangles) st.triangle_region[f] = b;
-      into.triangles.insert(into.triangles.end(), fragment.triangles.begin(), fragment.triangles.end());
-      fragment.triangles.clear();
-      fragment.alive = false;
+      if (!st.absorb_if_near(a, b)) continue;
       fresh[b] = 0;
       break;
     }

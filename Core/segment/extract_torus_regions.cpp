@@ -42,19 +42,8 @@ void merge_false_regions(State& st) {
         else ++it->first;
       }
     std::sort(shared.rbegin(), shared.rend());
-    for (const auto& [count, o] : shared) {
-      WorkRegion& torus = st.regions[o];
-      bool all_on = true;
-      for (index_t f : small.triangles) all_on = all_on && st.triangle_near(torus.surface, f);
-      if (!all_on) continue;
-      for (index_t f : small.triangles) {
-        st.triangle_region[f] = o;
-        torus.triangles.push_back(f);
-      }
-      small.triangles.clear();
-      small.alive = false;
-      break;
-    }
+    for (const auto& [count, o] : shared)
+      if (st.absorb_if_near(static_cast<index_t>(r), o)) break;
   }
 }
 

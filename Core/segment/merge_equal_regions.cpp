@@ -32,16 +32,7 @@ void merge_equal_regions(State& st) {
     for (auto [a, b] : pairs) {
       if (!st.regions[a].alive || !st.regions[b].alive) continue;
       if (st.regions[a].triangles.size() < st.regions[b].triangles.size()) std::swap(a, b);
-      WorkRegion& big = st.regions[a];
-      WorkRegion& small = st.regions[b];
-      if (big.type == SurfaceType::Unknown) continue;
-      bool all_on = true;
-      for (index_t h : small.triangles) all_on = all_on && st.triangle_near(big.surface, h);
-      if (!all_on) continue;
-      for (index_t h : small.triangles) st.triangle_region[h] = a;
-      big.triangles.insert(big.triangles.end(), small.triangles.begin(), small.triangles.end());
-      small.triangles.clear();
-      small.alive = false;
+      if (st.regions[a].type == SurfaceType::Unknown || !st.absorb_if_near(b, a)) continue;
       grown[a] = 1;
       ++merged;
     }

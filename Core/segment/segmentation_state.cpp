@@ -105,6 +105,18 @@ std::vector<Vec3> State::positions(const std::vector<index_t>& vertices) const {
   return p;
 }
 
+bool State::absorb_if_near(index_t from, index_t into) {
+  WorkRegion& source = regions[from];
+  WorkRegion& target = regions[into];
+  for (const index_t f : source.triangles)
+    if (!triangle_near(target.surface, f)) return false;
+  for (const index_t f : source.triangles) triangle_region[f] = into;
+  target.triangles.insert(target.triangles.end(), source.triangles.begin(), source.triangles.end());
+  source.triangles.clear();
+  source.alive = false;
+  return true;
+}
+
 Vec3 State::vertex_normal(index_t v) const {
   if (curvature.vertex_valid.size() > static_cast<std::size_t>(v) && curvature.vertex_valid[v])
     return curvature.vertex_normal[v];

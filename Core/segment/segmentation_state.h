@@ -118,6 +118,10 @@ struct State {
   /// its normal agreeing as for triangle_on. The same as triangle_on while
   /// the curve tolerance is not above the tight one.
   bool triangle_near(const SurfacePrimitive& s, index_t triangle) const;
+  /// Region `from`'s triangles into region `into` when every one of them
+  /// lies near into's surface (triangle_near); `from` is then empty and dead.
+  /// True when they moved.
+  bool absorb_if_near(index_t from, index_t into);
   /// Unit normal at a vertex: the curvature's when valid, else the
   /// area-weighted mean of its triangles' normals.
   Vec3 vertex_normal(index_t v) const;
